@@ -1,1 +1,14 @@
-"""A standalone SQP engine: damped BFGS, QP subproblems through qpsolvers, an L1 merit line search."""
+"""A standalone SQP engine: damped BFGS, QP subproblems through qpsolvers, an L1 merit line search.
+
+>>> import sqp
+>>> res = sqp.minimize(lambda x: (x[0] - 1) ** 2 + (x[1] - 2) ** 2, [0.0, 0.0],
+...                    constraints=[{"type": "ineq", "fun": lambda x: 1 - x[0] - x[1]}])
+>>> res.success
+True
+"""
+
+from sqp.result import IterationRecord, Result, Status
+from sqp.solver import minimize
+from sqp.subproblem import installed_solvers
+
+__all__ = ["IterationRecord", "Result", "Status", "installed_solvers", "minimize"]

@@ -1,0 +1,98 @@
+"""Lagrangian gradient and the KKT residuals (stationarity, feasibility, complementarity) at a point."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from sqp.problem import Problem, Rows
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class KKTResiduals:
+    """Residuals of the first-order conditions at ``(x, lam, z)``.
+
+    Attributes
+    ----------
+    stationarity : float
+        ``||grad f - J^T lam - A^T lam_lin - z||_inf / scale`` with ``scale = max(1, ||grad f||_inf)``.
+    feasibility : float
+        Largest absolute violation of any row or bound (the same number as ``maxcv``).
+    complementarity : float
+        Largest ``|lam_i| * slack_i`` of an inequality side (and of a bound), scaled like stationarity, together
+        with any multiplier of the wrong sign.
+    """
+
+    stationarity: float
+    feasibility: float
+    complementarity: float
+
+    def satisfied(self, tol: float) -> bool:
+        """All three residuals at most ``tol``."""
+        return bool(self.stationarity <= tol and self.feasibility <= tol and self.complementarity <= tol)
+
+    @property
+    def worst(self) -> float:
+        return max(self.stationarity, self.feasibility, self.complementarity)
+
+
+def lagrangian_gradient(g: Array, J: Array, lam_nl: Array, A: Array, lam_lin: Array, z: Array) -> Array:
+    """``grad_x L = g - J^T lam - A^T lam_lin - z``."""
+    out = g - z
+    if lam_nl.size:
+        out = out - J.T @ lam_nl
+    if lam_lin.size:
+        out = out - A.T @ lam_lin
+    return np.asarray(out).ravel()
+
+
+def max_violation(problem: Problem, x: Array, c: Array, r: Array) -> float:
+    """Largest absolute violation of the nonlinear rows, the linear rows and the bounds."""
+    v = max(
+        float(np.max(problem.nonlinear.violation(c), initial=0.0)),
+        float(np.max(problem.linear.violation(r), initial=0.0)),
+        float(np.max(np.maximum(problem.lower - x, 0.0), initial=0.0)),
+        float(np.max(np.maximum(x - problem.upper, 0.0), initial=0.0)),
+    )
+    return v
+
+
+def _complementarity(rows: Rows, values: Array, lam: Array) -> float:
+    """``max |lam| * distance-to-the-side`` and wrong-sign multipliers for rows ``lb <= values <= ub``."""
+    if lam.size == 0:
+        return 0.0
+    ineq = np.ones(lam.size, dtype=bool)
+    ineq[rows.eq] = False
+    with np.errstate(invalid="ignore"):
+        slack_lo = np.where(np.isfinite(rows.lb), values - rows.lb, np.inf)
+        slack_hi = np.where(np.isfinite(rows.ub), rows.ub - values, np.inf)
+    pos = np.maximum(lam, 0.0)
+    neg = np.maximum(-lam, 0.0)
+    # a positive multiplier belongs to the lower side, a negative one to the upper side
+    comp = np.where(pos > 0, pos * np.abs(np.minimum(slack_lo, 1e300)), 0.0) + np.where(
+        neg > 0, neg * np.abs(np.minimum(slack_hi, 1e300)), 0.0)
+    wrong = np.where(np.isfinite(rows.lb), 0.0, pos) + np.where(np.isfinite(rows.ub), 0.0, neg)
+    return float(np.max(np.where(ineq, np.maximum(comp, wrong), 0.0), initial=0.0))
+
+
+def kkt_residuals(
+    problem: Problem, x: Array, g: Array, c: Array, J: Array, r: Array, lam_nl: Array, lam_lin: Array, z: Array
+) -> KKTResiduals:
+    """KKT residuals at ``x`` for the multipliers ``(lam_nl, lam_lin, z)`` (engine sign convention)."""
+    grad_l = lagrangian_gradient(g, J, lam_nl, problem.A, lam_lin, z)
+    scale = max(1.0, float(np.max(np.abs(g), initial=0.0)))
+    bounds = Rows.from_bounds(problem.lower, problem.upper)
+    comp = max(
+        _complementarity(problem.nonlinear, c, lam_nl),
+        _complementarity(problem.linear, r, lam_lin),
+        _complementarity(bounds, x, z),
+    )
+    return KKTResiduals(
+        stationarity=float(np.max(np.abs(grad_l), initial=0.0)) / scale,
+        feasibility=max_violation(problem, x, c, r),
+        complementarity=comp / scale,
+    )

@@ -1,0 +1,51 @@
+"""The L1 merit function (paper Eq. 12), its directional derivative, the penalty update (Eq. 13) and backtracking.
+
+``phi(x; mu) = f(x) + sum_i mu_i v_i(x)`` where ``v_i`` is the violation of nonlinear row ``i`` (``|c_i - lb_i|`` for
+an equality, ``max(0, lb_i - c_i, c_i - ub_i)`` otherwise). Linear rows and bounds are satisfied by every iterate and
+so do not enter ``phi``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from sqp.problem import Rows
+
+Array = NDArray[np.float64]
+
+#: Armijo sufficient-decrease fraction.
+ARMIJO = 1e-4
+#: Backtracking keeps the new step within [BACKTRACK_MIN, BACKTRACK_MAX] times the old one.
+BACKTRACK_MIN = 0.1
+BACKTRACK_MAX = 0.5
+
+
+def merit(f: float, c: Array, rows: Rows, mu: Array) -> float:
+    """``phi = f + sum(mu * v(c))`` (Eq. 12); ``inf`` when ``f`` or ``c`` is not finite."""
+    if not np.isfinite(f) or not np.all(np.isfinite(c)):
+        return np.inf
+    return float(f + mu @ rows.violation(c))
+
+
+def directional_derivative(g: Array, d: Array, c: Array, Jd: Array, rows: Rows, mu: Array) -> float:
+    """``D(phi; d) = g^T d + sum mu_i (v_i(c + J d) - v_i(c))`` of the linearised merit function.
+
+    Equals ``g^T d - sum mu_i v_i(c)`` when ``d`` satisfies the linearised rows (Nocedal & Wright, Thm 18.2).
+    """
+    return float(g @ d + mu @ (rows.violation(c + Jd) - rows.violation(c)))
+
+
+def update_penalty(mu: Array, lam: Array) -> Array:
+    """Powell's update (Eq. 13): ``mu_i = max(|lam_i|, (mu_i + |lam_i|) / 2)``."""
+    a = np.abs(lam)
+    return np.maximum(a, 0.5 * (mu + a))
+
+
+def next_step_length(alpha: float, phi0: float, D: float, phi_alpha: float) -> float:
+    """Safeguarded quadratic-interpolation backtrack; a non-finite trial shrinks by the minimum factor."""
+    if not np.isfinite(phi_alpha):
+        return BACKTRACK_MIN * alpha
+    denom = 2.0 * (phi_alpha - phi0 - D * alpha)
+    trial = -D * alpha * alpha / denom if denom > 0 else BACKTRACK_MAX * alpha
+    return float(np.clip(trial, BACKTRACK_MIN * alpha, BACKTRACK_MAX * alpha))

@@ -1,0 +1,327 @@
+"""The problem as the engine sees it: bounds, linear rows and nonlinear rows, checked before any work.
+
+Every user constraint (an SLSQP dict, a ``NonlinearConstraint`` or a ``LinearConstraint``) becomes a block of rows
+``lb <= c(x) <= ub``; rows with ``lb == ub`` are equalities. The engine works with the stacked rows and maps the
+multipliers back to the user's blocks at the end (:meth:`Problem.split_multipliers`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+from scipy.optimize import Bounds, LinearConstraint, NonlinearConstraint
+
+from sqp.derivatives import forward_difference
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class NonlinearBlock:
+    """One user constraint with nonlinear rows ``lb <= fun(x) <= ub``."""
+
+    fun: Callable[[Array], Array]
+    jac: Callable[[Array], Array] | None  # None: finite differences
+    lb: Array
+    ub: Array
+
+    @property
+    def size(self) -> int:
+        return self.lb.size
+
+
+@dataclass(frozen=True)
+class Rows:
+    """Index sets of stacked rows ``lb <= r <= ub``: equalities, finite lower sides, finite upper sides."""
+
+    lb: Array
+    ub: Array
+    eq: NDArray[np.intp]
+    lower: NDArray[np.intp]
+    upper: NDArray[np.intp]
+
+    @classmethod
+    def from_bounds(cls, lb: Array, ub: Array) -> Rows:
+        is_eq = lb == ub
+        return cls(
+            lb=lb,
+            ub=ub,
+            eq=np.flatnonzero(is_eq),
+            lower=np.flatnonzero(~is_eq & np.isfinite(lb)),
+            upper=np.flatnonzero(~is_eq & np.isfinite(ub)),
+        )
+
+    def violation(self, r: Array) -> Array:
+        """Row-wise violation ``max(lb - r, r - ub, 0)`` (``|r - lb|`` for equalities)."""
+        with np.errstate(invalid="ignore"):
+            return np.maximum(np.maximum(self.lb - r, r - self.ub), 0.0)
+
+
+@dataclass(frozen=True)
+class Problem:
+    """A validated nonlinear program ``min f(x)`` s.t. bounds, linear rows and nonlinear rows.
+
+    Attributes
+    ----------
+    n : int
+        Number of variables.
+    lower, upper : ndarray, shape (n,)
+        Variable bounds (``-inf``/``inf`` where absent).
+    A : ndarray or sparse matrix, shape (m_lin, n)
+        Stacked linear rows with their :class:`Rows` ``linear``.
+    blocks : tuple of NonlinearBlock
+        Nonlinear user constraints in the order given; their rows stack into ``nonlinear``.
+    kinds : tuple of str
+        For every user constraint, ``"linear"`` or ``"nonlinear"``, in the order given.
+    """
+
+    fun: Callable[[Array], Any]
+    grad: Callable[[Array], Array] | None
+    x0: Array
+    lower: Array
+    upper: Array
+    A: Any
+    linear: Rows
+    blocks: tuple[NonlinearBlock, ...]
+    nonlinear: Rows
+    kinds: tuple[str, ...]
+    linear_sizes: tuple[int, ...]
+
+    @property
+    def n(self) -> int:
+        return self.x0.size
+
+    @property
+    def has_bounds(self) -> bool:
+        return bool(np.any(np.isfinite(self.lower)) or np.any(np.isfinite(self.upper)))
+
+    def split_multipliers(self, lam_lin: Array, lam_nl: Array) -> list[Array]:
+        """The stacked row multipliers as one array per user constraint, in the order given."""
+        out: list[Array] = []
+        i_lin = i_nl = 0
+        sizes_nl = [b.size for b in self.blocks]
+        k_lin = k_nl = 0
+        for kind in self.kinds:
+            if kind == "linear":
+                m = self.linear_sizes[k_lin]
+                out.append(lam_lin[i_lin : i_lin + m].copy())
+                i_lin += m
+                k_lin += 1
+            else:
+                m = sizes_nl[k_nl]
+                out.append(lam_nl[i_nl : i_nl + m].copy())
+                i_nl += m
+                k_nl += 1
+        return out
+
+
+def _as_vector(value: Any, m: int, name: str) -> Array:
+    arr = np.asarray(value, dtype=float)
+    if arr.ndim == 0:
+        arr = np.full(m, float(arr))
+    if arr.shape != (m,):
+        raise ValueError(f"{name} has shape {arr.shape}; expected ({m},) or a scalar.")
+    return arr
+
+
+def _check_x0(x0: Any) -> Array:
+    try:
+        x = np.array(x0, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"x0 must be a 1-D array of numbers; got {type(x0).__name__}.") from exc
+    if x.ndim != 1 or x.size == 0:
+        raise ValueError(f"x0 has shape {x.shape}; expected a non-empty 1-D array (n,). Pass one value per variable.")
+    if not np.all(np.isfinite(x)):
+        raise ValueError(f"x0 has non-finite entries at indices {np.flatnonzero(~np.isfinite(x)).tolist()}; "
+                         "start from finite values.")
+    return x
+
+
+def _check_bounds(bounds: Any, n: int) -> tuple[Array, Array]:
+    if bounds is None:
+        return np.full(n, -np.inf), np.full(n, np.inf)
+    if isinstance(bounds, Bounds):
+        lo = _as_vector(bounds.lb, n, "bounds.lb")
+        hi = _as_vector(bounds.ub, n, "bounds.ub")
+    else:
+        try:
+            pairs = list(bounds)
+        except TypeError:
+            raise TypeError("bounds must be scipy.optimize.Bounds or a sequence of (lo, hi) pairs.") from None
+        if len(pairs) != n:
+            raise ValueError(f"bounds has {len(pairs)} pairs; expected {n} (one (lo, hi) per variable, "
+                             "None for an unbounded side).")
+        lo = np.empty(n)
+        hi = np.empty(n)
+        for i, pair in enumerate(pairs):
+            try:
+                a, b = pair
+            except (TypeError, ValueError):
+                raise ValueError(f"bounds[{i}] = {pair!r} is not a (lo, hi) pair.") from None
+            lo[i] = -np.inf if a is None else float(a)
+            hi[i] = np.inf if b is None else float(b)
+    if np.any(np.isnan(lo)) or np.any(np.isnan(hi)):
+        raise ValueError("bounds contain NaN; use None or +-inf for an unbounded side.")
+    bad = np.flatnonzero(lo > hi)
+    if bad.size:
+        i = int(bad[0])
+        raise ValueError(f"bounds[{i}] has lo = {lo[i]} > hi = {hi[i]}; every lower bound must be <= its upper bound.")
+    return lo, hi
+
+
+def _dict_block(con: dict[str, Any], i: int, x0: Array) -> NonlinearBlock:
+    kind = con.get("type")
+    if kind not in ("eq", "ineq"):
+        raise ValueError(f"constraints[{i}]['type'] = {kind!r}; expected 'eq' or 'ineq' ('ineq' means fun(x) >= 0).")
+    fun = con.get("fun")
+    if not callable(fun):
+        raise TypeError(f"constraints[{i}]['fun'] must be callable.")
+    args = tuple(con.get("args", ()))
+    f = (lambda x, _f=fun, _a=args: _f(x, *_a)) if args else fun
+    jac = con.get("jac")
+    if jac is not None and not callable(jac):
+        if jac in ("2-point", "3-point", "cs"):
+            jac = None
+        else:
+            raise TypeError(f"constraints[{i}]['jac'] must be callable or None.")
+    j = (lambda x, _j=jac, _a=args: _j(x, *_a)) if (args and jac is not None) else jac
+    m = np.atleast_1d(np.asarray(f(x0.copy()), dtype=float)).size
+    lb = np.zeros(m)
+    ub = np.zeros(m) if kind == "eq" else np.full(m, np.inf)
+    return NonlinearBlock(fun=f, jac=j, lb=lb, ub=ub)
+
+
+def _nonlinear_object_block(con: NonlinearConstraint, i: int, x0: Array) -> NonlinearBlock:
+    m = np.atleast_1d(np.asarray(con.fun(x0.copy()), dtype=float)).size
+    jac = con.jac if callable(con.jac) else None
+    lb = _as_vector(con.lb, m, f"constraints[{i}].lb")
+    ub = _as_vector(con.ub, m, f"constraints[{i}].ub")
+    if np.any(lb > ub):
+        raise ValueError(f"constraints[{i}] has lb > ub in rows {np.flatnonzero(lb > ub).tolist()}.")
+    return NonlinearBlock(fun=con.fun, jac=jac, lb=lb, ub=ub)
+
+
+def build_problem(
+    fun: Callable[..., Any],
+    x0: Any,
+    jac: Any,
+    bounds: Any,
+    constraints: Any,
+    args: tuple[Any, ...] = (),
+) -> Problem:
+    """Validate the user's input and stack it into a :class:`Problem` (raises before any solve).
+
+    Raises
+    ------
+    TypeError, ValueError
+        Naming the argument at fault and how to fix it.
+    """
+    if not callable(fun):
+        raise TypeError("fun must be callable: fun(x) -> float.")
+    x = _check_x0(x0)
+    n = x.size
+    f = (lambda z: fun(z, *args)) if args else fun
+    if jac is True:
+        raise ValueError("jac=True (fun returning (f, g)) is not supported; pass the gradient as a callable.")
+    if jac is None or (isinstance(jac, str) and jac in ("2-point", "3-point", "cs")):
+        grad = None
+    elif callable(jac):
+        grad = (lambda z: jac(z, *args)) if args else jac
+    else:
+        raise TypeError(f"jac must be callable, None or '2-point'; got {jac!r}.")
+    lower, upper = _check_bounds(bounds, n)
+    xs = np.clip(x, lower, upper)
+
+    if isinstance(constraints, dict | LinearConstraint | NonlinearConstraint):
+        constraints = (constraints,)
+    blocks: list[NonlinearBlock] = []
+    lin_A: list[Any] = []
+    lin_lb: list[Array] = []
+    lin_ub: list[Array] = []
+    kinds: list[str] = []
+    for i, con in enumerate(constraints or ()):
+        if isinstance(con, LinearConstraint):
+            A = con.A
+            A = A if sp.issparse(A) else np.atleast_2d(np.asarray(A, dtype=float))
+            if A.shape[1] != n:
+                raise ValueError(f"constraints[{i}] (LinearConstraint) has A with {A.shape[1]} columns; expected {n}.")
+            m = A.shape[0]
+            lb = _as_vector(con.lb, m, f"constraints[{i}].lb")
+            ub = _as_vector(con.ub, m, f"constraints[{i}].ub")
+            if np.any(lb > ub):
+                raise ValueError(f"constraints[{i}] has lb > ub in rows {np.flatnonzero(lb > ub).tolist()}.")
+            lin_A.append(A)
+            lin_lb.append(lb)
+            lin_ub.append(ub)
+            kinds.append("linear")
+        elif isinstance(con, NonlinearConstraint):
+            blocks.append(_nonlinear_object_block(con, i, xs))
+            kinds.append("nonlinear")
+        elif isinstance(con, dict):
+            blocks.append(_dict_block(con, i, xs))
+            kinds.append("nonlinear")
+        else:
+            raise TypeError(f"constraints[{i}] is a {type(con).__name__}; expected a dict "
+                            "{'type': 'eq'|'ineq', 'fun': ..., 'jac': ...}, a NonlinearConstraint or a LinearConstraint.")
+    if lin_A:
+        if any(sp.issparse(a) for a in lin_A):
+            A_all = sp.vstack([sp.csr_matrix(a) for a in lin_A], format="csr")
+        else:
+            A_all = np.vstack(lin_A)
+        linear = Rows.from_bounds(np.concatenate(lin_lb), np.concatenate(lin_ub))
+    else:
+        A_all = np.zeros((0, n))
+        linear = Rows.from_bounds(np.zeros(0), np.zeros(0))
+    nl_lb = np.concatenate([b.lb for b in blocks]) if blocks else np.zeros(0)
+    nl_ub = np.concatenate([b.ub for b in blocks]) if blocks else np.zeros(0)
+    problem = Problem(
+        fun=f,
+        grad=grad,
+        x0=x,
+        lower=lower,
+        upper=upper,
+        A=A_all,
+        linear=linear,
+        blocks=tuple(blocks),
+        nonlinear=Rows.from_bounds(nl_lb, nl_ub),
+        kinds=tuple(kinds),
+        linear_sizes=tuple(a.shape[0] for a in lin_A),
+    )
+    _check_shapes(problem, xs)
+    return problem
+
+
+def _check_shapes(problem: Problem, x: Array) -> None:
+    """Evaluate once at the (clipped) start to catch non-scalar objectives and wrong Jacobian shapes early."""
+    n = problem.n
+    f = np.asarray(problem.fun(x.copy()))
+    if f.size != 1:
+        raise ValueError(f"fun returned an array of shape {f.shape}; it must return a scalar (the objective value).")
+    if problem.grad is not None:
+        g = np.asarray(problem.grad(x.copy()), dtype=float)
+        if g.shape != (n,):
+            raise ValueError(f"jac returned shape {g.shape}; expected ({n},): the gradient of fun.")
+    for i, block in enumerate(problem.blocks):
+        if block.jac is None:
+            continue
+        J = block.jac(x.copy())
+        shape = J.shape if sp.issparse(J) else np.atleast_2d(np.asarray(J, dtype=float)).shape
+        if shape != (block.size, n):
+            raise ValueError(f"the jac of nonlinear constraint block {i} returned shape {shape}; "
+                             f"expected ({block.size}, {n}).")
+
+
+def block_jacobian(block: NonlinearBlock, x: Array, lower: Array, upper: Array) -> Array:
+    """Jacobian of one nonlinear block: the user's callable or forward differences kept inside the bounds."""
+    if block.jac is None:
+        return forward_difference(lambda z: np.atleast_1d(np.asarray(block.fun(z), dtype=float)), x, lower, upper)
+    J = block.jac(x)
+    if sp.issparse(J):
+        return J.toarray()
+    return np.atleast_2d(np.asarray(J, dtype=float)).reshape(block.size, x.size)
+

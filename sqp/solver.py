@@ -1,0 +1,369 @@
+"""The SQP loop (paper §2.2) and the scipy-style front door :func:`minimize`.
+
+One iteration: solve the QP (Eqs. 9–10; elastic if inconsistent) → test the KKT residuals → update the penalties
+(Eq. 13) → backtrack on the L1 merit function (Eq. 12), with a second-order correction → damped BFGS (Eq. 6).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import OptimizeResult
+
+from sqp.hessian import damped_bfgs_update, initial_scaling
+from sqp.iterate import Derivatives, Evaluator, Point
+from sqp.kkt import KKTResiduals, kkt_residuals, lagrangian_gradient, max_violation
+from sqp.merit import ARMIJO, directional_derivative, merit, next_step_length, update_penalty
+from sqp.options import Options
+from sqp.problem import Problem, build_problem
+from sqp.report import HEADER, format_row
+from sqp.result import IterationRecord, Result, Status
+from sqp.subproblem import LinearisedRows, QPStep, linearise, solve_subproblem
+
+Array = NDArray[np.float64]
+
+#: Smallest step length tried by the backtracking line search.
+MIN_STEP_LENGTH = 1e-10
+#: Largest price of a unit of slack in the elastic QP before a point is declared locally infeasible.
+MAX_ELASTIC_PENALTY = 1e10
+
+
+def minimize(
+    fun: Callable[..., float],
+    x0: Any,
+    jac: Callable[..., Array] | str | None = None,
+    bounds: Any = None,
+    constraints: Any = (),
+    *,
+    args: tuple[Any, ...] = (),
+    hess0: Any = None,
+    qp_solver: str = "osqp",
+    qp_options: dict[str, Any] | None = None,
+    tol: float = 1e-8,
+    max_iter: int = 500,
+    callback: Callable[[OptimizeResult], Any] | None = None,
+    verbose: bool = False,
+) -> Result:
+    """Minimise ``fun(x)`` subject to bounds and constraints by SQP, as ``scipy.optimize.minimize`` does.
+
+    Parameters
+    ----------
+    fun : callable
+        Objective ``fun(x, *args) -> float``.
+    x0 : array_like, shape (n,)
+        Starting point; clipped into the bounds and, if needed, projected onto the linear constraints.
+    jac : callable, '2-point' or None
+        Gradient ``jac(x, *args) -> (n,)``; None or '2-point' for forward differences that stay inside the bounds.
+    bounds : scipy.optimize.Bounds or sequence of (lo, hi), optional
+        Variable bounds; ``None`` for an unbounded side.
+    constraints : dict, NonlinearConstraint, LinearConstraint or a sequence of them
+        SLSQP dicts ``{"type": "eq"|"ineq", "fun", "jac"}`` (``ineq`` means ``fun(x) >= 0``) and scipy constraint
+        objects (rows with ``lb == ub`` are equalities). Linear constraints and bounds are kept exactly in every QP.
+    args : tuple
+        Extra arguments of ``fun`` and ``jac``.
+    hess0 : array_like, shape (n, n), optional
+        Initial Lagrangian Hessian approximation (e.g. the objective's known Hessian); symmetric, positive
+        semidefinite (shifted to positive definite if needed). Default: identity, rescaled after the first step.
+    qp_solver : str
+        qpsolvers backend for the subproblems ("osqp" by default; any installed backend).
+    qp_options : dict, optional
+        Backend settings merged over the engine's accurate defaults.
+    tol : float
+        Tolerance on the scaled KKT residuals and on the absolute constraint violation.
+    max_iter : int
+        Maximum number of iterations.
+    callback : callable, optional
+        ``callback(intermediate_result)`` after each iteration; raise ``StopIteration`` to stop.
+    verbose : bool
+        Print an iteration table.
+
+    Returns
+    -------
+    Result
+        An ``OptimizeResult`` with ``x, fun, jac, success, status, message, nit, nfev, njev, maxcv`` plus
+        ``constraint_multipliers``, ``bound_multipliers``, ``multipliers``, ``kkt``, ``history`` and ``hess``.
+
+    Raises
+    ------
+    TypeError, ValueError
+        On malformed input, before any iteration, naming the argument and the fix.
+    """
+    options = Options(tol=tol, max_iter=max_iter, qp_solver=qp_solver, qp_options=dict(qp_options or {}),
+                      callback=callback, verbose=verbose)
+    problem = build_problem(fun, x0, jac, bounds, constraints, args)
+    B0 = _initial_hessian(hess0, problem.n)
+    return run(problem, options, B0)
+
+
+def _initial_hessian(hess0: Any, n: int) -> Array | None:
+    if hess0 is None:
+        return None
+    H = np.asarray(hess0.toarray() if hasattr(hess0, "toarray") else hess0, dtype=float)
+    if H.shape != (n, n):
+        raise ValueError(f"hess0 has shape {H.shape}; expected ({n}, {n}).")
+    if not np.all(np.isfinite(H)):
+        raise ValueError("hess0 has non-finite entries.")
+    if not np.allclose(H, H.T, rtol=1e-10, atol=1e-12 * max(1.0, float(np.max(np.abs(H))))):
+        raise ValueError("hess0 is not symmetric; pass a symmetric matrix (e.g. (H + H.T) / 2).")
+    H = 0.5 * (H + H.T)
+    scale = max(1.0, float(np.max(np.abs(H))))
+    lam_min = float(np.linalg.eigvalsh(H)[0])
+    if lam_min < -1e-8 * scale:
+        raise ValueError(f"hess0 has a negative eigenvalue {lam_min:.3g}; it must be positive semidefinite.")
+    if lam_min < 1e-8 * scale:
+        H = H + (1e-8 * scale - min(lam_min, 0.0)) * np.eye(n)
+    return H
+
+
+@dataclass
+class _State:
+    """The handful of values carried from one iteration to the next."""
+
+    pt: Point
+    der: Derivatives
+    B: Array
+    mu: Array
+    qp: QPStep | None = None
+
+
+def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
+    """Run the SQP iteration on a validated problem."""
+    t_start = time.perf_counter()
+    ev = Evaluator(problem)
+    history: list[IterationRecord] = []
+    x, status = _start_point(problem, options)
+    if status is not None:
+        return _result(problem, ev, None, None, None, status, history, t_start, x=x)
+    pt = ev.point(x)
+    if not pt.finite:
+        return _result(problem, ev, pt, None, None, Status.NONFINITE, history, t_start)
+    der = ev.derivatives(pt)
+    if not (np.all(np.isfinite(der.g)) and np.all(np.isfinite(der.J))):
+        return _result(problem, ev, pt, der, None, Status.NONFINITE, history, t_start)
+    scaled_start = B0 is None
+    st = _State(pt=pt, der=der, B=np.eye(problem.n) if B0 is None else B0.copy(),
+                mu=np.zeros(problem.nonlinear.lb.size))
+    if options.verbose:
+        print(HEADER)
+    status = Status.MAX_ITER
+    rho = 0.0
+    for nit in range(options.max_iter + 1):
+        # the QP subproblem (Eqs. 9–10), elastic when its linearisation is inconsistent
+        qp, rho = _subproblem(problem, options, st, rho)
+        if not qp.found:
+            st.B = np.eye(problem.n) * max(1.0, float(np.mean(np.abs(np.diag(st.B)))))
+            qp, rho = _subproblem(problem, options, st, rho)
+            if not qp.found:
+                status = Status.QP_FAILED
+                break
+        st.qp = qp
+        kkt = _kkt(problem, st)
+        if kkt.satisfied(options.tol):
+            status = Status.SUCCESS
+            break
+        if nit == options.max_iter:
+            break
+        d = qp.d
+        if qp.elastic and rho >= MAX_ELASTIC_PENALTY and np.max(np.abs(d)) <= 1e-10 * (1 + np.max(np.abs(st.pt.x))):
+            status = Status.INFEASIBLE
+            break
+        # the penalties (Eq. 13) and the merit line search (Eq. 12)
+        st.mu = update_penalty(st.mu, qp.lam_nl)
+        if qp.elastic:
+            st.mu = np.maximum(st.mu, rho)
+        search = _line_search(problem, options, ev, st, d)
+        if search is None:
+            status = _stalled_status(problem, st, d)
+            break
+        new_pt, alpha, soc = search
+        new_der = ev.derivatives(new_pt)
+        if not (np.all(np.isfinite(new_der.g)) and np.all(np.isfinite(new_der.J))):
+            status = Status.NONFINITE
+            break
+        # the damped BFGS update (Eq. 6)
+        s = new_pt.x - st.pt.x
+        y = _lagrangian_gradient(problem, new_der, qp) - _lagrangian_gradient(problem, st.der, qp)
+        if scaled_start and nit == 0:
+            st.B = st.B * initial_scaling(s, y)
+        st.B, damped = damped_bfgs_update(st.B, s, y)
+        st.pt, st.der = new_pt, new_der
+        rec = IterationRecord(
+            nit=nit + 1, nfev=ev.nfev, f=new_pt.f, maxcv=max_violation(problem, new_pt.x, new_pt.c, new_pt.r),
+            kkt=kkt.worst, step=float(np.max(np.abs(s), initial=0.0)), alpha=alpha,
+            penalty=float(np.max(st.mu, initial=0.0)), qp_status=qp.status, damped=damped, soc=soc,
+        )
+        history.append(rec)
+        if options.verbose:
+            print(format_row(rec))
+        if options.callback is not None:
+            try:
+                options.callback(OptimizeResult(x=new_pt.x.copy(), fun=new_pt.f, nit=nit + 1, nfev=ev.nfev,
+                                                maxcv=rec.maxcv, kkt=rec.kkt))
+            except StopIteration:
+                status = Status.CALLBACK
+                break
+    return _result(problem, ev, st.pt, st.der, st.qp, status, history, t_start, B=st.B, nit=len(history))
+
+
+def _start_point(problem: Problem, options: Options) -> tuple[Array, Status | None]:
+    """Clip ``x0`` into the bounds; project it onto the linear rows when they are violated."""
+    x = np.clip(problem.x0, problem.lower, problem.upper)
+    if problem.linear.lb.size == 0 or np.max(problem.linear.violation(problem.A @ x), initial=0.0) <= 1e-12:
+        return x, None
+    n = problem.n
+    empty = linearise(np.zeros((0, n)), np.zeros(0), problem.nonlinear.__class__.from_bounds(np.zeros(0), np.zeros(0)))
+    lin = linearise(problem.A, problem.A @ x, problem.linear)
+    qp = solve_subproblem(np.eye(n), np.zeros(n), empty, lin, problem.lower - x, problem.upper - x,
+                          solver=options.qp_solver, options=options.backend_options)
+    if not qp.found:
+        return x, Status.LINEAR_INFEASIBLE
+    return np.clip(x + qp.d, problem.lower, problem.upper), None
+
+
+def _linearised(problem: Problem, st: _State, c: Array | None = None) -> tuple[LinearisedRows, LinearisedRows]:
+    nl = linearise(st.der.J, st.pt.c if c is None else c, problem.nonlinear)
+    lin = linearise(problem.A, st.pt.r, problem.linear)
+    return nl, lin
+
+
+def _subproblem(problem: Problem, options: Options, st: _State, rho: float) -> tuple[QPStep, float]:
+    nl, lin = _linearised(problem, st)
+    x = st.pt.x
+    kw = {"solver": options.qp_solver, "options": options.backend_options,
+          "initvals": None if st.qp is None else st.qp.d}
+    qp = solve_subproblem(st.B, st.der.g, nl, lin, problem.lower - x, problem.upper - x, **kw)
+    if qp.found or problem.nonlinear.lb.size == 0:
+        return qp, 0.0
+    rho = min(MAX_ELASTIC_PENALTY, max(10.0 * rho, 1e2, 10.0 * float(np.max(st.mu, initial=0.0)),
+                                       10.0 * float(np.max(np.abs(st.der.g)))))
+    return solve_subproblem(st.B, st.der.g, nl, lin, problem.lower - x, problem.upper - x,
+                            elastic_penalty=rho, **kw), rho
+
+
+def _kkt(problem: Problem, st: _State) -> KKTResiduals:
+    qp = st.qp
+    assert qp is not None
+    return kkt_residuals(problem, st.pt.x, st.der.g, st.pt.c, st.der.J, st.pt.r, qp.lam_nl, qp.lam_lin, qp.z)
+
+
+def _lagrangian_gradient(problem: Problem, der: Derivatives, qp: QPStep) -> Array:
+    """Only the nonlinear rows matter for ``y``: linear rows and bounds have constant gradients."""
+    return lagrangian_gradient(der.g, der.J, qp.lam_nl, problem.A, np.zeros(0), np.zeros(der.g.size))
+
+
+def _trial(problem: Problem, ev: Evaluator, x: Array, step: Array) -> Point:
+    return ev.point(np.clip(x + step, problem.lower, problem.upper))
+
+
+def _line_search(
+    problem: Problem, options: Options, ev: Evaluator, st: _State, d: Array
+) -> tuple[Point, float, bool] | None:
+    """Armijo backtracking on the L1 merit function, with one second-order correction of the full step.
+
+    Returns the accepted point, its step length and whether the correction was used; ``None`` when no step
+    length down to :data:`MIN_STEP_LENGTH` decreases the merit function enough.
+    """
+    rows = problem.nonlinear
+    Jd = st.der.J @ d
+    phi0 = merit(st.pt.f, st.pt.c, rows, st.mu)
+    D = directional_derivative(st.der.g, d, st.pt.c, Jd, rows, st.mu)
+    if D >= 0.0:
+        # an inexact QP can give an ascent direction; a steeper penalty restores descent when d is infeasible
+        viol = rows.violation(st.pt.c)
+        if np.any(viol > 0):
+            st.mu = st.mu + (D + 1.0) / float(np.sum(viol)) * (viol > 0)
+            phi0 = merit(st.pt.f, st.pt.c, rows, st.mu)
+            D = directional_derivative(st.der.g, d, st.pt.c, Jd, rows, st.mu)
+        if D >= 0.0:
+            return None
+    alpha = 1.0
+    tried_soc = not options.second_order_correction or rows.lb.size == 0
+    while alpha >= MIN_STEP_LENGTH:
+        trial = _trial(problem, ev, st.pt.x, alpha * d)
+        phi = merit(trial.f, trial.c, rows, st.mu)
+        if phi <= phi0 + ARMIJO * alpha * D:
+            return trial, alpha, False
+        if not tried_soc:
+            tried_soc = True
+            corrected = _second_order_correction(problem, options, ev, st, d, trial)
+            if corrected is not None and merit(corrected.f, corrected.c, rows, st.mu) <= phi0 + ARMIJO * D:
+                return corrected, 1.0, True
+        alpha = next_step_length(alpha, phi0, D, phi)
+    return None
+
+
+def _second_order_correction(
+    problem: Problem, options: Options, ev: Evaluator, st: _State, d: Array, trial: Point
+) -> Point | None:
+    """Re-solve the QP with the constraint values at ``x + d`` (Nocedal & Wright §18.3, Maratos remedy)."""
+    if not trial.finite:
+        return None
+    c_shift = trial.c - st.der.J @ d
+    nl, lin = _linearised(problem, st, c=c_shift)
+    x = st.pt.x
+    qp = solve_subproblem(st.B, st.der.g, nl, lin, problem.lower - x, problem.upper - x,
+                          solver=options.qp_solver, options=options.backend_options, initvals=d)
+    if not qp.found:
+        return None
+    return _trial(problem, ev, x, qp.d)
+
+
+def _stalled_status(problem: Problem, st: _State, d: Array) -> Status:
+    """Why no step was accepted: non-finite values along the step, a vanishing step, or a failed search."""
+    if np.max(np.abs(d), initial=0.0) <= 1e-14 * (1.0 + np.max(np.abs(st.pt.x))):
+        return Status.SMALL_STEP
+    return Status.LINE_SEARCH
+
+
+def _result(
+    problem: Problem,
+    ev: Evaluator,
+    pt: Point | None,
+    der: Derivatives | None,
+    qp: QPStep | None,
+    status: Status,
+    history: list[IterationRecord],
+    t_start: float,
+    *,
+    x: Array | None = None,
+    B: Array | None = None,
+    nit: int = 0,
+) -> Result:
+    n = problem.n
+    if pt is None:
+        xx = problem.x0.copy() if x is None else x
+        f, c, r = np.nan, np.full(problem.nonlinear.lb.size, np.nan), problem.A @ xx
+    else:
+        xx, f, c, r = pt.x, pt.f, pt.c, pt.r
+    lam_nl = qp.lam_nl if qp is not None else np.zeros(problem.nonlinear.lb.size)
+    lam_lin = qp.lam_lin if qp is not None else np.zeros(problem.linear.lb.size)
+    z = qp.z if qp is not None else np.zeros(n)
+    g = der.g if der is not None else np.full(n, np.nan)
+    if der is not None:
+        kkt = kkt_residuals(problem, xx, g, c, der.J, r, lam_nl, lam_lin, z)
+        kkt_dict = {"stationarity": kkt.stationarity, "feasibility": kkt.feasibility,
+                    "complementarity": kkt.complementarity}
+    else:
+        kkt_dict = {"stationarity": np.nan, "feasibility": np.nan, "complementarity": np.nan}
+    maxcv = max_violation(problem, xx, c, np.asarray(r).ravel()) if np.all(np.isfinite(c)) else np.inf
+    eq_rows = np.concatenate([lam_nl[problem.nonlinear.eq], lam_lin[problem.linear.eq]])
+    ineq_nl = np.setdiff1d(np.arange(lam_nl.size), problem.nonlinear.eq)
+    ineq_lin = np.setdiff1d(np.arange(lam_lin.size), problem.linear.eq)
+    message = status.message
+    if status is Status.MAX_ITER:
+        message = message.replace("max_iter", f"max_iter (now {nit})")
+    res = Result(
+        x=xx.copy(), fun=float(f), jac=g, success=status is Status.SUCCESS, status=status.code, message=message,
+        nit=nit, nfev=ev.nfev, njev=ev.njev, maxcv=float(maxcv),
+        constraint_multipliers=problem.split_multipliers(lam_lin, lam_nl),
+        bound_multipliers=z.copy(),
+        multipliers={"eq": eq_rows, "ineq": np.concatenate([lam_nl[ineq_nl], lam_lin[ineq_lin]]), "bounds": z.copy()},
+        kkt=kkt_dict, history=history, hess=B, status_name=status.name,
+        solve_time=time.perf_counter() - t_start,
+    )
+    return res

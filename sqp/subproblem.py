@@ -1,0 +1,287 @@
+"""The QP subproblem (paper Eqs. 9–10) through qpsolvers, its elastic relaxation, and a check of every answer.
+
+At an iterate ``x`` with nonlinear rows ``lb <= c(x) <= ub`` (Jacobian ``J``), linear rows ``lb <= A x <= ub`` and
+bounds ``lower <= x <= upper`` the step ``d`` solves
+
+    min  1/2 d^T B d + g^T d
+    s.t. lb <= c + J d <= ub,   lb <= A (x + d) <= ub,   lower <= x + d <= upper.
+
+Linear rows and bounds are exact (never relaxed). When the linearised nonlinear rows are inconsistent the *elastic*
+QP (SNOPT's and fmincon's remedy) relaxes them with nonnegative slacks ``t`` priced at ``rho`` in the objective,
+``min 1/2 d^T B d + g^T d + rho * sum(t)``, which is always feasible when ``x`` satisfies the linear rows and bounds.
+
+Multipliers follow one convention throughout the engine (Nocedal & Wright): ``grad f = J^T lam + A^T lam_lin + z``,
+``lam >= 0`` on an active lower side, ``<= 0`` on an active upper side, ``z > 0`` at an active lower bound.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import qpsolvers
+import scipy.sparse as sp
+from numpy.typing import NDArray
+
+from sqp.problem import Rows
+
+Array = NDArray[np.float64]
+
+#: Backend settings that make the subproblem accurate enough for the multipliers the merit function and the
+#: BFGS update depend on (OSQP's defaults, eps 1e-3 without polishing, are far too loose for SQP).
+DEFAULT_QP_OPTIONS: dict[str, dict[str, Any]] = {
+    "osqp": {"eps_abs": 1e-10, "eps_rel": 1e-10, "polishing": True, "polish_refine_iter": 5, "max_iter": 20000,
+             "eps_prim_inf": 1e-7, "eps_dual_inf": 1e-7},
+    "proxqp": {"eps_abs": 1e-10, "eps_rel": 0.0},
+    "piqp": {"eps_abs": 1e-10, "eps_rel": 1e-12},
+    "clarabel": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},
+    "daqp": {},
+    "quadprog": {},
+}
+
+#: A QP answer is trusted when its primal and dual residuals are below this, relative to the data's scale.
+QP_RESIDUAL_TOL = 1e-6
+
+
+def installed_solvers() -> list[str]:
+    """The qpsolvers backends installed here."""
+    return list(qpsolvers.available_solvers)
+
+
+def check_solver_name(name: str) -> None:
+    """Raise ``ValueError`` naming the installed backends when ``name`` is not one of them."""
+    if name not in qpsolvers.available_solvers:
+        raise ValueError(f"qp_solver={name!r} is not an installed qpsolvers backend; installed: "
+                         f"{', '.join(qpsolvers.available_solvers)}.")
+
+
+@dataclass(frozen=True)
+class LinearisedRows:
+    """Rows ``lo <= M d <= hi`` of one kind (nonlinear or linear), with their row index sets."""
+
+    M: Array
+    lo: Array
+    hi: Array
+    rows: Rows
+
+
+@dataclass(frozen=True)
+class QPStep:
+    """What a subproblem solve gave: a step and multipliers, or a reason it gave none.
+
+    Attributes
+    ----------
+    d : ndarray (n,)
+        The step (zeros when ``found`` is False).
+    lam_nl, lam_lin, z : ndarray
+        Multipliers of the nonlinear rows, the linear rows and the bounds (engine convention).
+    found : bool
+        Whether a checked solution was found.
+    elastic : bool
+        Whether the elastic (relaxed) QP produced it.
+    slack : float
+        Sum of elastic slacks (0 for the ordinary QP): the linearised violation the step leaves.
+    status : str
+        Short description for the iteration table.
+    """
+
+    d: Array
+    lam_nl: Array
+    lam_lin: Array
+    z: Array
+    found: bool
+    elastic: bool
+    slack: float
+    status: str
+
+
+def linearise(J: Array, c: Array, rows: Rows) -> LinearisedRows:
+    """Rows ``lb - c <= J d <= ub - c``."""
+    return LinearisedRows(M=J, lo=rows.lb - c, hi=rows.ub - c, rows=rows)
+
+
+def _stack_rows(parts: list[LinearisedRows], n: int) -> tuple[Any, Array, Any, Array, list[tuple[int, ...]]]:
+    """Equalities ``E d = e`` and inequalities ``G d <= h`` of several row kinds, and where each kind's rows went."""
+    E_list, e_list, G_list, h_list, where = [], [], [], [], []
+    n_eq = n_in = 0
+    for part in parts:
+        r = part.rows
+        M = part.M
+        E_list.append(M[r.eq])
+        e_list.append(part.lo[r.eq])
+        G_list.append(-M[r.lower])
+        h_list.append(-part.lo[r.lower])
+        G_list.append(M[r.upper])
+        h_list.append(part.hi[r.upper])
+        where.append((n_eq, n_in, n_in + r.lower.size))
+        n_eq += r.eq.size
+        n_in += r.lower.size + r.upper.size
+    E = _vstack(E_list, n)
+    G = _vstack(G_list, n)
+    return E, np.concatenate(e_list) if e_list else np.zeros(0), G, np.concatenate(h_list) if h_list else np.zeros(0), where
+
+
+def _vstack(blocks: list[Any], n: int) -> Any:
+    blocks = [b for b in blocks if b.shape[0]]
+    if not blocks:
+        return np.zeros((0, n))
+    if any(sp.issparse(b) for b in blocks):
+        return sp.vstack(blocks, format="csc")
+    return np.vstack(blocks)
+
+
+def _row_multipliers(rows: Rows, y: Array, z: Array, where: tuple[int, ...]) -> Array:
+    """Per-row multipliers in the engine convention from qpsolvers' ``y`` (equalities) and ``z`` (``G d <= h``)."""
+    i_eq, i_lo, i_up = where
+    lam = np.zeros(rows.lb.size)
+    lam[rows.eq] = -y[i_eq : i_eq + rows.eq.size]
+    lam[rows.lower] += z[i_lo : i_lo + rows.lower.size]
+    lam[rows.upper] -= z[i_up : i_up + rows.upper.size]
+    return lam
+
+
+def _prepare(solver: str, P: Any, G: Any, E: Any) -> tuple[Any, Any, Any]:
+    """Dense arrays for dense-only backends, CSC for sparse ones."""
+    if solver in qpsolvers.sparse_solvers and solver not in ("piqp", "proxqp"):
+        conv = lambda M: None if M is None else sp.csc_matrix(M)  # noqa: E731
+    else:
+        conv = lambda M: None if M is None else (M.toarray() if sp.issparse(M) else np.asarray(M))  # noqa: E731
+    return conv(P), conv(G), conv(E)
+
+
+def _solve(
+    solver: str, P: Any, q: Array, G: Any, h: Array, E: Any, e: Array, lb: Array | None, ub: Array | None,
+    options: dict[str, Any], initvals: Array | None,
+) -> qpsolvers.Solution | None:
+    P, G, E = _prepare(solver, P, G if G.shape[0] else None, E if E.shape[0] else None)
+    problem = qpsolvers.Problem(P, q, G, h if G is not None else None, E, e if E is not None else None, lb, ub)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return qpsolvers.solve_problem(problem, solver=solver, initvals=initvals, **options)
+    except Exception:  # a backend error is a failed subproblem, never a crash of the solve
+        return None
+
+
+def _trusted(sol: qpsolvers.Solution | None, scale: float) -> bool:
+    if sol is None or not sol.found or sol.x is None or not np.all(np.isfinite(sol.x)):
+        return False
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            prim = sol.primal_residual()
+            dual = sol.dual_residual()
+    except Exception:
+        return False
+    return bool(np.isfinite(prim) and np.isfinite(dual) and prim <= QP_RESIDUAL_TOL * scale
+                and dual <= QP_RESIDUAL_TOL * scale)
+
+
+def solve_subproblem(
+    B: Any,
+    g: Array,
+    nonlinear: LinearisedRows,
+    linear: LinearisedRows,
+    box_lo: Array,
+    box_hi: Array,
+    *,
+    solver: str,
+    options: dict[str, Any],
+    initvals: Array | None = None,
+    elastic_penalty: float | None = None,
+) -> QPStep:
+    """Solve the QP (Eqs. 9–10); with ``elastic_penalty`` solve its elastic relaxation instead.
+
+    Parameters
+    ----------
+    B : (n, n) array or sparse matrix
+        Positive-definite model Hessian.
+    g : (n,) array
+        Objective gradient.
+    nonlinear, linear : LinearisedRows
+        Linearised nonlinear rows and the (exact) linear rows, both as ``lo <= M d <= hi``.
+    box_lo, box_hi : (n,) arrays
+        ``lower - x`` and ``upper - x``.
+    solver, options : str, dict
+        qpsolvers backend and its settings.
+    initvals : (n,) array, optional
+        Warm start for the primal step.
+    elastic_penalty : float, optional
+        Price ``rho`` of a unit of slack; solves the elastic QP when given.
+    """
+    n = g.size
+    has_box = bool(np.any(np.isfinite(box_lo)) or np.any(np.isfinite(box_hi)))
+    scale = max(1.0, float(np.max(np.abs(g), initial=0.0)))
+    if elastic_penalty is None:
+        E, e, G, h, where = _stack_rows([nonlinear, linear], n)
+        sol = _solve(solver, B, g, G, h, E, e, box_lo if has_box else None, box_hi if has_box else None,
+                     options, initvals)
+        if not _trusted(sol, scale):
+            return _failed(n, nonlinear, linear, "QP failed" if sol is None or sol.found else "QP infeasible")
+        y = np.zeros(0) if sol.y is None else np.asarray(sol.y, dtype=float).ravel()
+        z = np.zeros(0) if sol.z is None else np.asarray(sol.z, dtype=float).ravel()
+        zb = -np.asarray(sol.z_box, dtype=float) if (has_box and sol.z_box is not None) else np.zeros(n)
+        return QPStep(
+            d=sol.x, lam_nl=_row_multipliers(nonlinear.rows, y, z, where[0]),
+            lam_lin=_row_multipliers(linear.rows, y, z, where[1]), z=zb, found=True, elastic=False, slack=0.0,
+            status="optimal",
+        )
+    return _solve_elastic(B, g, nonlinear, linear, box_lo, box_hi, has_box, solver, options, initvals,
+                          elastic_penalty, scale)
+
+
+def _failed(n: int, nonlinear: LinearisedRows, linear: LinearisedRows, status: str) -> QPStep:
+    return QPStep(d=np.zeros(n), lam_nl=np.zeros(nonlinear.rows.lb.size), lam_lin=np.zeros(linear.rows.lb.size),
+                  z=np.zeros(n), found=False, elastic=False, slack=np.inf, status=status)
+
+
+def _solve_elastic(
+    B: Any, g: Array, nonlinear: LinearisedRows, linear: LinearisedRows, box_lo: Array, box_hi: Array,
+    has_box: bool, solver: str, options: dict[str, Any], initvals: Array | None, rho: float, scale: float,
+) -> QPStep:
+    """Elastic QP in variables ``(d, t)``: every nonlinear side gets its own slack ``t >= 0``.
+
+    Equality row ``i``: ``lo_i <= M_i d + t_i+ - t_i-`` … written as two one-sided rows with two slacks.
+    """
+    n = g.size
+    r = nonlinear.rows
+    M = nonlinear.M
+    M = M.toarray() if sp.issparse(M) else np.asarray(M)
+    # one-sided nonlinear rows S d >= s_lo, each with its own slack: eq rows give both sides
+    low_idx = np.concatenate([r.eq, r.lower])
+    up_idx = np.concatenate([r.eq, r.upper])
+    k = low_idx.size + up_idx.size
+    # G [d; t] <= h :  -M_low d - t_low <= -lo_low ;  M_up d - t_up <= hi_up
+    G_nl = np.block([
+        [-M[low_idx], -np.eye(low_idx.size), np.zeros((low_idx.size, up_idx.size))],
+        [M[up_idx], np.zeros((up_idx.size, low_idx.size)), -np.eye(up_idx.size)],
+    ])
+    h_nl = np.concatenate([-nonlinear.lo[low_idx], nonlinear.hi[up_idx]])
+    El, el, Gl, hl, where_lin = _stack_rows([linear], n)
+    El = El.toarray() if sp.issparse(El) else El
+    Gl = Gl.toarray() if sp.issparse(Gl) else Gl
+    G = np.vstack([G_nl, np.hstack([Gl, np.zeros((Gl.shape[0], k))])])
+    h = np.concatenate([h_nl, hl])
+    E = np.hstack([El, np.zeros((El.shape[0], k))])
+    Bd = B.toarray() if sp.issparse(B) else np.asarray(B)
+    reg = 1e-10 * max(1.0, float(np.max(np.abs(np.diag(Bd)))))  # keeps P positive definite for quadprog
+    P = np.block([[Bd, np.zeros((n, k))], [np.zeros((k, n)), reg * np.eye(k)]])
+    q = np.concatenate([g, np.full(k, rho)])
+    lo = np.concatenate([box_lo, np.zeros(k)])
+    hi = np.concatenate([box_hi, np.full(k, np.inf)])
+    x0 = None if initvals is None else np.concatenate([initvals, np.zeros(k)])
+    sol = _solve(solver, P, q, G, h, E, el, lo, hi, options, x0)
+    if not _trusted(sol, max(scale, rho)):
+        return _failed(n, nonlinear, linear, "elastic QP failed")
+    z = np.zeros(0) if sol.z is None else np.asarray(sol.z, dtype=float).ravel()
+    y = np.zeros(0) if sol.y is None else np.asarray(sol.y, dtype=float).ravel()
+    lam_nl = np.zeros(r.lb.size)
+    np.add.at(lam_nl, low_idx, z[: low_idx.size])
+    np.subtract.at(lam_nl, up_idx, z[low_idx.size : k])
+    lam_lin = _row_multipliers(linear.rows, y, z[k:], where_lin[0])
+    zb = -sol.z_box[:n] if sol.z_box is not None else np.zeros(n)
+    t = np.maximum(sol.x[n:], 0.0)
+    return QPStep(d=sol.x[:n], lam_nl=lam_nl, lam_lin=lam_lin, z=zb, found=True, elastic=True,
+                  slack=float(np.sum(t)), status="elastic")

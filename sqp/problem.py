@@ -267,7 +267,8 @@ def build_problem(
             kinds.append("nonlinear")
         else:
             raise TypeError(f"constraints[{i}] is a {type(con).__name__}; expected a dict "
-                            "{'type': 'eq'|'ineq', 'fun': ..., 'jac': ...}, a NonlinearConstraint or a LinearConstraint.")
+                            "{'type': 'eq'|'ineq', 'fun': ..., 'jac': ...}, "
+                            "a NonlinearConstraint or a LinearConstraint.")
     if lin_A:
         if any(sp.issparse(a) for a in lin_A):
             A_all = sp.vstack([sp.csr_matrix(a) for a in lin_A], format="csr")

@@ -120,7 +120,9 @@ def _stack_rows(parts: list[LinearisedRows], n: int) -> tuple[Any, Array, Any, A
         n_in += r.lower.size + r.upper.size
     E = _vstack(E_list, n)
     G = _vstack(G_list, n)
-    return E, np.concatenate(e_list) if e_list else np.zeros(0), G, np.concatenate(h_list) if h_list else np.zeros(0), where
+    e = np.concatenate(e_list) if e_list else np.zeros(0)
+    h = np.concatenate(h_list) if h_list else np.zeros(0)
+    return E, e, G, h, where
 
 
 def _vstack(blocks: list[Any], n: int) -> Any:

@@ -169,8 +169,8 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
         if nit == options.max_iter:
             break
         d = qp.d
-        if qp.elastic and rho >= MAX_ELASTIC_PENALTY and np.max(np.abs(d)) <= 1e-10 * (1 + np.max(np.abs(st.pt.x))):
-            status = Status.INFEASIBLE
+        if qp.elastic and kkt.feasibility > options.tol and np.max(np.abs(d)) <= 1e-10 * (1 + np.max(np.abs(st.pt.x))):
+            status = Status.INFEASIBLE  # no step reduces the linearised violation: a stationary point of it
             break
         # the penalties (Eq. 13) and the merit line search (Eq. 12)
         st.mu = update_penalty(st.mu, qp.lam_nl)
@@ -316,6 +316,8 @@ def _second_order_correction(
 def _stalled_status(problem: Problem, st: _State, d: Array) -> Status:
     """Why no step was accepted: non-finite values along the step, a vanishing step, or a failed search."""
     if np.max(np.abs(d), initial=0.0) <= 1e-14 * (1.0 + np.max(np.abs(st.pt.x))):
+        if st.qp is not None and st.qp.elastic and np.max(problem.nonlinear.violation(st.pt.c), initial=0.0) > 0:
+            return Status.INFEASIBLE
         return Status.SMALL_STEP
     return Status.LINE_SEARCH
 

@@ -16,7 +16,11 @@ Multipliers follow one convention throughout the engine (Nocedal & Wright): ``gr
 
 from __future__ import annotations
 
+import contextlib
+import os
+import sys
 import warnings
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -160,11 +164,33 @@ def _solve(
     P, G, E = _prepare(solver, P, G if G.shape[0] else None, E if E.shape[0] else None)
     problem = qpsolvers.Problem(P, q, G, h if G is not None else None, E, e if E is not None else None, lb, ub)
     try:
-        with warnings.catch_warnings():
+        quiet = _silence_c_stdout() if solver == "osqp" else contextlib.nullcontext()
+        with warnings.catch_warnings(), quiet:
             warnings.simplefilter("ignore")
             return qpsolvers.solve_problem(problem, solver=solver, initvals=initvals, **options)
     except Exception:  # a backend error is a failed subproblem, never a crash of the solve
         return None
+
+
+@contextlib.contextmanager
+def _silence_c_stdout() -> Iterator[None]:
+    """Redirect the process's stdout file descriptor to /dev/null (OSQP's C code prints
+    "Polishing not needed" unconditionally)."""
+    try:
+        fd = sys.__stdout__.fileno() if sys.__stdout__ is not None else 1
+    except (AttributeError, OSError, ValueError):
+        yield
+        return
+    sys.stdout.flush()
+    saved = os.dup(fd)
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, fd)
+        yield
+    finally:
+        os.dup2(saved, fd)
+        os.close(saved)
+        os.close(devnull)
 
 
 def _trusted(sol: qpsolvers.Solution | None, scale: float) -> bool:

@@ -1,0 +1,204 @@
+"""Each piece of the engine alone: damped BFGS, merit derivative, elastic QP, statuses, input checks."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.optimize import BFGS, Bounds, LinearConstraint, NonlinearConstraint
+
+import sqp
+from sqp.hessian import damped_bfgs_update
+from sqp.merit import directional_derivative, merit
+from sqp.problem import Rows
+from sqp.subproblem import linearise, solve_subproblem
+
+
+def test_damped_bfgs_matches_scipy_damp_update():
+    rng = np.random.default_rng(1)
+    n = 6
+    oracle = BFGS(exception_strategy="damp_update", min_curvature=0.2, init_scale=1.0)
+    oracle.initialize(n, "hess")
+    B = np.eye(n)
+    damped_seen = 0
+    for k in range(12):
+        s = rng.standard_normal(n)
+        y = rng.standard_normal(n) if k % 2 else s * 2.0 + 0.1 * rng.standard_normal(n)  # both regimes
+        B, damped = damped_bfgs_update(B, s, y)
+        damped_seen += damped
+        oracle.update(s, y)
+        np.testing.assert_allclose(B, oracle.get_matrix(), rtol=1e-9, atol=1e-10)
+        assert np.all(np.linalg.eigvalsh(B) > 0)
+    assert 0 < damped_seen < 12
+
+
+def test_merit_directional_derivative_matches_finite_difference():
+    rng = np.random.default_rng(2)
+    n, m = 4, 3
+    Q = rng.standard_normal((n, n))
+    f = lambda x: 0.5 * x @ Q @ Q.T @ x + x.sum()  # noqa: E731
+    g = lambda x: Q @ Q.T @ x + 1.0  # noqa: E731
+    W = rng.standard_normal((m, n))
+    c = lambda x: np.array([np.sin(W[0] @ x) + 2.0, W[1] @ x - 3.0, (W[2] @ x) ** 2 + 1.0])  # noqa: E731
+    J = lambda x: np.vstack([np.cos(W[0] @ x) * W[0], W[1], 2 * (W[2] @ x) * W[2]])  # noqa: E731
+    rows = Rows.from_bounds(np.array([0.0, 0.0, -np.inf]), np.array([0.0, np.inf, 0.5]))  # eq, lower, upper
+    mu = np.array([2.0, 3.0, 0.7])
+    x = rng.standard_normal(n) * 0.3
+    d = rng.standard_normal(n)
+    t = 1e-7
+    D = directional_derivative(g(x), t * d, c(x), J(x) @ (t * d), rows, mu) / t
+    fd = (merit(f(x + t * d), c(x + t * d), rows, mu) - merit(f(x), c(x), rows, mu)) / t
+    assert rows.violation(c(x)).min() > 1e-3  # away from the kinks
+    assert D == pytest.approx(fd, rel=1e-5, abs=1e-6)
+
+
+def test_elastic_qp_solves_an_inconsistent_linearisation():
+    # c(x) = x0^2 + x1^2 - 1 = 0 linearised at the origin: 0 d - 1 = 0 has no solution
+    rows = Rows.from_bounds(np.zeros(1), np.zeros(1))
+    nl = linearise(np.zeros((1, 2)), np.array([-1.0]), rows)
+    lin = linearise(np.zeros((0, 2)), np.zeros(0), Rows.from_bounds(np.zeros(0), np.zeros(0)))
+    box = np.full(2, np.inf)
+    plain = solve_subproblem(np.eye(2), np.array([1.0, 1.0]), nl, lin, -box, box, solver="osqp", options={})
+    assert not plain.found
+    from sqp.subproblem import DEFAULT_QP_OPTIONS
+
+    el = solve_subproblem(np.eye(2), np.array([1.0, 1.0]), nl, lin, -box, box, solver="osqp",
+                          options=DEFAULT_QP_OPTIONS["osqp"], elastic_penalty=100.0)
+    assert el.found and el.elastic
+    np.testing.assert_allclose(el.d, [-1.0, -1.0], atol=1e-6)  # the slack absorbs the row; d = -B^-1 g
+    assert el.slack == pytest.approx(1.0, abs=1e-6)
+    # and the whole solve continues from there to the constrained minimum of x0 + x1 on the unit circle
+    res = sqp.minimize(lambda x: x[0] + x[1], [0.0, 0.0], lambda x: np.ones(2),
+                       constraints={"type": "eq", "fun": lambda x: np.array([x @ x - 1]),
+                                    "jac": lambda x: 2 * x[None, :]})
+    assert res.success, res.message
+    np.testing.assert_allclose(res.x, -np.sqrt(0.5) * np.ones(2), atol=1e-7)
+
+
+def test_max_iter_status():
+    res = sqp.minimize(lambda x: (x[0] - 3) ** 4 + x[1] ** 2, [0.0, 1.0], max_iter=1)
+    assert not res.success
+    assert res.status == sqp.Status.MAX_ITER.code
+    assert "max_iter" in res.message and res.nit == 1
+
+
+def test_nan_objective_has_its_own_status():
+    res = sqp.minimize(lambda x: np.nan, [1.0, 2.0])
+    assert not res.success and res.status == sqp.Status.NONFINITE.code
+    assert "NaN" in res.message
+
+
+def test_nan_inside_the_line_search_is_rejected_not_accepted():
+    # f is NaN for x0 > 1.5; the full first step lands there; the answer must still be the true minimiser
+    f = lambda x: np.nan if x[0] > 1.5 else (x[0] - 1.0) ** 2 + x[1] ** 2  # noqa: E731
+    g = lambda x: np.array([2 * (x[0] - 1.0), 2 * x[1]])  # noqa: E731
+    res = sqp.minimize(f, [-3.0, 1.0], g, hess0=0.05 * np.eye(2))
+    assert res.success, res.message
+    np.testing.assert_allclose(res.x, [1.0, 0.0], atol=1e-6)
+    assert all(np.isfinite(r.f) for r in res.history)
+
+
+def test_infeasible_problem_reports_why():
+    res = sqp.minimize(lambda x: x @ x, [1.0, 1.0], lambda x: 2 * x,
+                       constraints={"type": "ineq", "fun": lambda x: np.array([-(x @ x) - 1.0]),
+                                    "jac": lambda x: -2 * x[None, :]})
+    assert not res.success
+    assert res.status == sqp.Status.INFEASIBLE.code, res.message
+    assert "infeasible" in res.message
+    assert res.maxcv == pytest.approx(1.0, abs=1e-6)
+
+
+def test_inconsistent_linear_constraints_and_bounds():
+    res = sqp.minimize(lambda x: x @ x, [0.0, 0.0], bounds=[(0, 1), (0, 1)],
+                       constraints=LinearConstraint([[1.0, 1.0]], 3.0, 4.0))
+    assert not res.success and res.status == sqp.Status.LINEAR_INFEASIBLE.code
+
+
+def test_callback_stop_iteration():
+    seen = []
+
+    def cb(intermediate_result):
+        seen.append(intermediate_result.x.copy())
+        if len(seen) == 2:
+            raise StopIteration
+
+    res = sqp.minimize(lambda x: (x[0] - 3) ** 4 + (x[1] + 1) ** 2, [0.0, 0.0], callback=cb)
+    assert res.status == sqp.Status.CALLBACK.code and not res.success and len(seen) == 2
+
+
+def test_finite_difference_points_stay_inside_bounds_and_linear_rows_stay_exact():
+    lo, hi = np.array([1.0, -2.0, 0.0]), np.array([3.0, 2.0, 0.5])
+
+    def f(x):
+        if np.any(x < lo) or np.any(x > hi):
+            raise AssertionError(f"evaluated outside the bounds at {x}")
+        return (x[0] - 5) ** 2 + (x[1] - 1) ** 2 + x[2] ** 2 + x[0] * x[2]
+
+    lin = LinearConstraint([[1.0, 1.0, 1.0]], -np.inf, 3.0)
+    xs = []
+    res = sqp.minimize(f, [2.0, 0.0, 0.25], bounds=Bounds(lo, hi), constraints=[lin],
+                       callback=lambda r: xs.append(r.x))
+    assert res.success, res.message
+    assert all(x.sum() <= 3.0 + 1e-12 for x in xs)
+    np.testing.assert_allclose(res.x, [3.0, 0.0, 0.0], atol=1e-7)  # x0 at its bound, sum row active
+    assert res.bound_multipliers[2] > 0  # x2 at its lower bound
+
+
+def test_multiplier_convention_and_blocks():
+    # min -x0 - x1 s.t. x0^2 + x1^2 <= 2 (NonlinearConstraint upper side), x0 - x1 == 0 (dict eq)
+    con1 = NonlinearConstraint(lambda x: x @ x, -np.inf, 2.0, jac=lambda x: 2 * x[None, :])
+    con2 = {"type": "eq", "fun": lambda x: np.array([x[0] - x[1]]), "jac": lambda x: np.array([[1.0, -1.0]])}
+    res = sqp.minimize(lambda x: -x.sum(), [0.5, 0.2], lambda x: -np.ones(2), constraints=[con1, con2])
+    assert res.success, res.message
+    np.testing.assert_allclose(res.x, [1.0, 1.0], atol=1e-8)
+    lam1, lam2 = res.constraint_multipliers
+    assert lam1.shape == (1,) and lam2.shape == (1,)
+    assert lam1[0] == pytest.approx(-0.5, abs=1e-7)  # upper side active -> negative
+    grad = -np.ones(2)
+    np.testing.assert_allclose(grad, lam1[0] * 2 * res.x + lam2[0] * np.array([1.0, -1.0]), atol=1e-7)
+    assert set(res.multipliers) == {"eq", "ineq", "bounds"}
+    assert res.kkt["stationarity"] <= 1e-8 and res.kkt["feasibility"] <= 1e-8
+    assert len(res.history) == res.nit
+
+
+@pytest.mark.parametrize("backend", sqp.installed_solvers())
+def test_every_installed_backend_solves_hs71(backend):
+    f = lambda x: x[0] * x[3] * (x[0] + x[1] + x[2]) + x[2]  # noqa: E731
+    g = lambda x: np.array([x[3] * (2 * x[0] + x[1] + x[2]), x[0] * x[3], x[0] * x[3] + 1,  # noqa: E731
+                            x[0] * (x[0] + x[1] + x[2])])
+    cons = [{"type": "ineq", "fun": lambda x: np.array([x.prod() - 25]),
+             "jac": lambda x: np.array([[x[1] * x[2] * x[3], x[0] * x[2] * x[3], x[0] * x[1] * x[3],
+                                         x[0] * x[1] * x[2]]])},
+            {"type": "eq", "fun": lambda x: np.array([x @ x - 40]), "jac": lambda x: 2 * x[None, :]}]
+    res = sqp.minimize(f, [1, 5, 5, 1], g, [(1, 5)] * 4, cons, qp_solver=backend)
+    assert res.success, res.message
+    assert res.fun == pytest.approx(17.0140172891563, rel=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "exc", "text"),
+    [
+        ({"x0": np.zeros((2, 2))}, ValueError, "x0 has shape"),
+        ({"x0": [1.0, np.nan]}, ValueError, "non-finite"),
+        ({"bounds": [(0, 1)]}, ValueError, "bounds has 1 pairs; expected 2"),
+        ({"bounds": [(0, 1), (2, 1)]}, ValueError, "bounds[1] has lo = 2.0 > hi = 1.0"),
+        ({"constraints": {"type": "ineqq", "fun": lambda x: x[0]}}, ValueError, "'ineqq'"),
+        ({"jac": lambda x: np.ones(3)}, ValueError, "jac returned shape (3,)"),
+        ({"fun": lambda x: x}, ValueError, "must return a scalar"),
+        ({"qp_solver": "nosuch"}, ValueError, "installed: "),
+        ({"constraints": [{"type": "eq", "fun": lambda x: x[0], "jac": lambda x: np.ones((1, 3))}]}, ValueError,
+         "expected (1, 2)"),
+        ({"tol": -1.0}, ValueError, "tol"),
+        ({"constraints": [42]}, TypeError, "constraints[0] is a int"),
+    ],
+)
+def test_bad_input_is_refused_before_any_work(kwargs, exc, text):
+    calls = []
+
+    def fun(x):
+        calls.append(1)
+        return float(np.sum(x**2))
+
+    args = {"fun": fun, "x0": [1.0, 2.0]} | kwargs
+    with pytest.raises(exc) as info:
+        sqp.minimize(**args)
+    assert text in str(info.value)

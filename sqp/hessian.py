@@ -1,4 +1,5 @@
-"""Damped BFGS update of the Lagrangian Hessian (paper Eq. 6 with Powell's damping).
+"""The model Hessian: damped BFGS of the Lagrangian Hessian (paper Eq. 6 with Powell's damping), or an exact
+Lagrangian Hessian made positive definite by a diagonal shift.
 
 Symbols (Nocedal & Wright, Procedure 18.2): ``B`` the current approximation, ``s = x+ - x``,
 ``y = grad L(x+, lam+) - grad L(x, lam+)``.
@@ -6,7 +7,12 @@ Symbols (Nocedal & Wright, Procedure 18.2): ``B`` the current approximation, ``s
 
 from __future__ import annotations
 
+import warnings
+from typing import Any
+
 import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
 
 Array = NDArray[np.float64]
@@ -54,3 +60,48 @@ def initial_scaling(s: Array, y: Array) -> float:
     if sy <= 0.0 or not np.isfinite(sy) or yy <= 0.0:
         return 1.0
     return yy / sy
+
+
+def convexify(W: Any, shift: float = 0.0) -> tuple[Any, float]:
+    """``W + delta I`` positive definite, with the smallest tried ``delta`` (an inertia correction, as IPOPT does).
+
+    Tries ``delta = 0`` first, then ``max(shift / 4, 1e-8 s)`` growing tenfold, where ``s = max(1, max|W_ii|)`` and
+    ``shift`` is the ``delta`` that worked last time. Dense matrices are tested by Cholesky; sparse ones by an LU
+    factorisation without pivoting, whose pivots have the signs of the eigenvalues (Sylvester's law of inertia).
+
+    Returns
+    -------
+    B : ndarray or sparse matrix
+        The positive-definite matrix.
+    delta : float
+        The shift used.
+    """
+    is_sparse = sp.issparse(W)
+    diag = W.diagonal() if is_sparse else np.diag(W)
+    scale = max(1.0, float(np.max(np.abs(diag), initial=0.0)))
+    n = W.shape[0]
+    eye = sp.identity(n, format="csc") if is_sparse else np.eye(n)
+    delta = 0.0
+    for _ in range(40):
+        B = W + delta * eye if delta else W
+        if _positive_definite(B, is_sparse):
+            return B, delta
+        delta = max(shift / 4.0, 1e-8 * scale) if delta == 0.0 else 10.0 * delta
+    return (W + delta * eye), delta
+
+
+def _positive_definite(B: Any, is_sparse: bool) -> bool:
+    if not is_sparse:
+        try:
+            np.linalg.cholesky(B)
+            return True
+        except np.linalg.LinAlgError:
+            return False
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            lu = spla.splu(sp.csc_matrix(B), permc_spec="NATURAL", diag_pivot_thresh=0.0,
+                           options={"SymmetricMode": True})
+    except RuntimeError:  # exactly singular
+        return False
+    return bool(np.all(lu.perm_r == np.arange(B.shape[0])) and np.all(lu.U.diagonal() > 0))

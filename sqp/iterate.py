@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from sqp.derivatives import forward_difference
@@ -45,6 +47,7 @@ class Evaluator:
         self.problem = problem
         self.nfev = 0
         self.njev = 0
+        self.nhev = 0
 
     def _f(self, x: Array) -> float:
         self.nfev += 1
@@ -76,3 +79,23 @@ class Evaluator:
         else:
             J = np.zeros((0, x.size))
         return Derivatives(g=g, J=J)
+
+    def lagrangian_hessian(self, x: Array, lam_nl: Array) -> Any:
+        """``grad^2 f(x) - sum_i lam_i grad^2 c_i(x)`` from the user's Hessians (dense or sparse)."""
+        p = self.problem
+        assert p.hess is not None
+        self.nhev += 1
+        H = p.hess(x.copy())
+        W = H.tocsc() if sp.issparse(H) else np.array(H, dtype=float)
+        start = 0
+        for block in p.blocks:
+            v = lam_nl[start : start + block.size]
+            start += block.size
+            if not np.any(v):
+                continue
+            assert block.hess is not None
+            Hc = block.hess(x.copy(), v)
+            W = W - (Hc if sp.issparse(Hc) else np.asarray(Hc, dtype=float))
+        if sp.issparse(W):
+            return sp.csc_matrix(W)
+        return np.asarray(W)

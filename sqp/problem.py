@@ -29,6 +29,7 @@ class NonlinearBlock:
     jac: Callable[[Array], Array] | None  # None: finite differences
     lb: Array
     ub: Array
+    hess: Callable[[Array, Array], Any] | None = None  # hess(x, v) = sum_i v_i * Hessian of row i
 
     @property
     def size(self) -> int:
@@ -91,6 +92,7 @@ class Problem:
     nonlinear: Rows
     kinds: tuple[str, ...]
     linear_sizes: tuple[int, ...]
+    hess: Callable[[Array], Any] | None = None
 
     @property
     def n(self) -> int:
@@ -190,10 +192,13 @@ def _dict_block(con: dict[str, Any], i: int, x0: Array) -> NonlinearBlock:
         else:
             raise TypeError(f"constraints[{i}]['jac'] must be callable or None.")
     j = (lambda x, _j=jac, _a=args: _j(x, *_a)) if (args and jac is not None) else jac
+    hess = con.get("hess")
+    if hess is not None and not callable(hess):
+        raise TypeError(f"constraints[{i}]['hess'] must be callable: hess(x, v) = sum_i v_i * Hessian of row i.")
     m = np.atleast_1d(np.asarray(f(x0.copy()), dtype=float)).size
     lb = np.zeros(m)
     ub = np.zeros(m) if kind == "eq" else np.full(m, np.inf)
-    return NonlinearBlock(fun=f, jac=j, lb=lb, ub=ub)
+    return NonlinearBlock(fun=f, jac=j, lb=lb, ub=ub, hess=hess)
 
 
 def _nonlinear_object_block(con: NonlinearConstraint, i: int, x0: Array) -> NonlinearBlock:
@@ -203,7 +208,8 @@ def _nonlinear_object_block(con: NonlinearConstraint, i: int, x0: Array) -> Nonl
     ub = _as_vector(con.ub, m, f"constraints[{i}].ub")
     if np.any(lb > ub):
         raise ValueError(f"constraints[{i}] has lb > ub in rows {np.flatnonzero(lb > ub).tolist()}.")
-    return NonlinearBlock(fun=con.fun, jac=jac, lb=lb, ub=ub)
+    hess = con.hess if callable(con.hess) else None
+    return NonlinearBlock(fun=con.fun, jac=jac, lb=lb, ub=ub, hess=hess)
 
 
 def build_problem(
@@ -213,6 +219,7 @@ def build_problem(
     bounds: Any,
     constraints: Any,
     args: tuple[Any, ...] = (),
+    hess: Any = None,
 ) -> Problem:
     """Validate the user's input and stack it into a :class:`Problem` (raises before any solve).
 
@@ -280,6 +287,16 @@ def build_problem(
         linear = Rows.from_bounds(np.zeros(0), np.zeros(0))
     nl_lb = np.concatenate([b.lb for b in blocks]) if blocks else np.zeros(0)
     nl_ub = np.concatenate([b.ub for b in blocks]) if blocks else np.zeros(0)
+    if hess is not None:
+        if not callable(hess):
+            raise TypeError("hess must be callable: hess(x) -> (n, n) Hessian of fun (array or sparse matrix).")
+        missing = [i for i, b in enumerate(blocks) if b.hess is None]
+        if missing:
+            raise ValueError(f"hess is given but nonlinear constraint block(s) {missing} have no Hessian; give each a "
+                             "'hess' (dict key or NonlinearConstraint.hess) as hess(x, v), or drop hess to use BFGS.")
+        hess_f = (lambda z: hess(z, *args)) if args else hess
+    else:
+        hess_f = None
     problem = Problem(
         fun=f,
         grad=grad,
@@ -292,6 +309,7 @@ def build_problem(
         nonlinear=Rows.from_bounds(nl_lb, nl_ub),
         kinds=tuple(kinds),
         linear_sizes=tuple(a.shape[0] for a in lin_A),
+        hess=hess_f,
     )
     _check_shapes(problem, xs)
     return problem

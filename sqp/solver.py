@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import OptimizeResult
 
-from sqp.hessian import damped_bfgs_update, initial_scaling
+from sqp.hessian import convexify, damped_bfgs_update, initial_scaling
 from sqp.iterate import Derivatives, Evaluator, Point
 from sqp.kkt import KKTResiduals, kkt_residuals, lagrangian_gradient, max_violation
 from sqp.merit import ARMIJO, directional_derivative, merit, next_step_length, update_penalty
@@ -41,6 +41,7 @@ def minimize(
     constraints: Any = (),
     *,
     args: tuple[Any, ...] = (),
+    hess: Callable[..., Any] | None = None,
     hess0: Any = None,
     qp_solver: str = "osqp",
     qp_options: dict[str, Any] | None = None,
@@ -65,7 +66,12 @@ def minimize(
         SLSQP dicts ``{"type": "eq"|"ineq", "fun", "jac"}`` (``ineq`` means ``fun(x) >= 0``) and scipy constraint
         objects (rows with ``lb == ub`` are equalities). Linear constraints and bounds are kept exactly in every QP.
     args : tuple
-        Extra arguments of ``fun`` and ``jac``.
+        Extra arguments of ``fun``, ``jac`` and ``hess``.
+    hess : callable, optional
+        Exact objective Hessian ``hess(x, *args) -> (n, n)`` (array or sparse matrix). With it, every nonlinear
+        constraint must carry its Hessian (``NonlinearConstraint.hess`` or a dict's ``"hess"``: ``hess(x, v) =
+        sum_i v_i grad^2 c_i(x)``) and the model Hessian is the exact Lagrangian Hessian, shifted by a multiple of
+        the identity where needed to make it positive definite, instead of damped BFGS.
     hess0 : array_like, shape (n, n), optional
         Initial Lagrangian Hessian approximation (e.g. the objective's known Hessian); symmetric, positive
         semidefinite (shifted to positive definite if needed). Default: identity, rescaled after the first step.
@@ -95,7 +101,7 @@ def minimize(
     """
     options = Options(tol=tol, max_iter=max_iter, qp_solver=qp_solver, qp_options=dict(qp_options or {}),
                       callback=callback, verbose=verbose)
-    problem = build_problem(fun, x0, jac, bounds, constraints, args)
+    problem = build_problem(fun, x0, jac, bounds, constraints, args, hess)
     B0 = _initial_hessian(hess0, problem.n)
     return run(problem, options, B0)
 
@@ -145,7 +151,9 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
     der = ev.derivatives(pt)
     if not (np.all(np.isfinite(der.g)) and np.all(np.isfinite(der.J))):
         return _result(problem, ev, pt, der, None, Status.NONFINITE, history, t_start)
-    scaled_start = B0 is None
+    exact = problem.hess is not None
+    scaled_start = B0 is None and not exact
+    shift = 0.0
     st = _State(pt=pt, der=der, B=np.eye(problem.n) if B0 is None else B0.copy(),
                 mu=np.zeros(problem.nonlinear.lb.size))
     if options.verbose:
@@ -153,10 +161,13 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
     status = Status.MAX_ITER
     rho = 0.0
     for nit in range(options.max_iter + 1):
+        if exact:  # the exact Lagrangian Hessian at (x_k, lam_{k-1}), made positive definite
+            lam_prev = st.qp.lam_nl if st.qp is not None else np.zeros(problem.nonlinear.lb.size)
+            st.B, shift = convexify(ev.lagrangian_hessian(st.pt.x, lam_prev), shift)
         # the QP subproblem (Eqs. 9–10), elastic when its linearisation is inconsistent
         qp, rho = _subproblem(problem, options, st, rho)
         if not qp.found:
-            st.B = np.eye(problem.n) * max(1.0, float(np.mean(np.abs(np.diag(st.B)))))
+            st.B = np.eye(problem.n) * max(1.0, float(np.mean(np.abs(st.B.diagonal()))))
             qp, rho = _subproblem(problem, options, st, rho)
             if not qp.found:
                 status = Status.QP_FAILED
@@ -187,10 +198,12 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
             break
         # the damped BFGS update (Eq. 6)
         s = new_pt.x - st.pt.x
-        y = _lagrangian_gradient(problem, new_der, qp) - _lagrangian_gradient(problem, st.der, qp)
-        if scaled_start and nit == 0:
-            st.B = st.B * initial_scaling(s, y)
-        st.B, damped = damped_bfgs_update(st.B, s, y)
+        damped = False
+        if not exact:
+            y = _lagrangian_gradient(problem, new_der, qp) - _lagrangian_gradient(problem, st.der, qp)
+            if scaled_start and nit == 0:
+                st.B = st.B * initial_scaling(s, y)
+            st.B, damped = damped_bfgs_update(st.B, s, y)
         st.pt, st.der = new_pt, new_der
         rec = IterationRecord(
             nit=nit + 1, nfev=ev.nfev, f=new_pt.f, maxcv=max_violation(problem, new_pt.x, new_pt.c, new_pt.r),
@@ -365,7 +378,7 @@ def _result(
         constraint_multipliers=problem.split_multipliers(lam_lin, lam_nl),
         bound_multipliers=z.copy(),
         multipliers={"eq": eq_rows, "ineq": np.concatenate([lam_nl[ineq_nl], lam_lin[ineq_lin]]), "bounds": z.copy()},
-        kkt=kkt_dict, history=history, hess=B, status_name=status.name,
+        nhev=ev.nhev, kkt=kkt_dict, history=history, hess=B, status_name=status.name,
         solve_time=time.perf_counter() - t_start,
     )
     return res

@@ -1,0 +1,50 @@
+"""The engine on the Hock–Schittkowski collection: every problem solved to the collection's strict criterion.
+
+A problem the engine does not solve is an explicit expected failure with its reason (``EXPECTED_FAILURES``), never
+deleted. Success must never be claimed at a point that is infeasible or not a KKT point (checked independently).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import sqp
+from sqp.problems.hock_schittkowski import BUILDERS
+from sqp.problems.judge import judge
+
+#: name -> why the engine does not solve it (kept visible as xfail, strict: an unexpected pass is reported).
+EXPECTED_FAILURES: dict[str, str] = {}
+
+
+def _params():
+    for name in BUILDERS:
+        marks = [pytest.mark.xfail(reason=EXPECTED_FAILURES[name], strict=True)] if name in EXPECTED_FAILURES else []
+        yield pytest.param(name, marks=marks, id=name)
+
+
+@pytest.mark.parametrize("name", list(_params()))
+def test_solved(name):
+    prob = BUILDERS[name]()
+    res = sqp.minimize(prob.fun, prob.x0, prob.jac, prob.bounds, prob.constraints)
+    verdict = judge(prob, res.x)
+    assert not verdict.false_success(res.success), f"false success: {res.message} {verdict}"
+    assert res.maxcv == pytest.approx(prob.max_violation(res.x), abs=1e-12)
+    assert verdict.solved, f"{res.message} f={res.fun} f*={prob.fstar} maxcv={res.maxcv}"
+    assert res.success, res.message
+    assert res.kkt["stationarity"] <= 1e-8 and res.kkt["feasibility"] <= 1e-8
+    assert res.kkt["complementarity"] <= 1e-8
+    assert verdict.kkt_point
+    assert res.x.shape == (prob.n,)
+    assert res.fun == pytest.approx(prob.fun(res.x), rel=1e-12, abs=1e-14)
+
+
+def test_expected_failures_are_honest():
+    """The problems not solved still never claim success at an infeasible or non-stationary point."""
+    false = []
+    for name in EXPECTED_FAILURES:
+        prob = BUILDERS[name]()
+        res = sqp.minimize(prob.fun, prob.x0, prob.jac, prob.bounds, prob.constraints)
+        if judge(prob, res.x).false_success(res.success):
+            false.append(name)
+    assert false == []

@@ -6,7 +6,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from sqp.subproblem import DEFAULT_QP_OPTIONS, check_solver_name
+from sqp.subproblem import DEFAULT_QP_OPTIONS, check_solver_name, installed_solvers
 
 
 @dataclass(frozen=True)
@@ -30,6 +30,9 @@ class Options:
         Print the iteration table.
     second_order_correction : bool
         Try a second-order correction when the full step is rejected (the Maratos-effect remedy).
+    qp_fallbacks : tuple of str
+        Backends asked, in order, when ``qp_solver`` fails a subproblem even after its retries (skipped when not
+        installed). The iteration table marks such a step ``opt[name]``. ``()`` disables the fallback.
     """
 
     tol: float = 1e-8
@@ -39,6 +42,7 @@ class Options:
     callback: Callable[[Any], Any] | None = None
     verbose: bool = False
     second_order_correction: bool = True
+    qp_fallbacks: tuple[str, ...] = ("daqp", "quadprog")
 
     def __post_init__(self) -> None:
         if not isinstance(self.tol, int | float) or not self.tol > 0:
@@ -57,3 +61,12 @@ class Options:
     def backend_options(self) -> dict[str, Any]:
         """Backend settings actually passed to qpsolvers."""
         return {**DEFAULT_QP_OPTIONS.get(self.qp_solver, {}), **self.qp_options}
+
+    @property
+    def backends(self) -> list[tuple[str, dict[str, Any]]]:
+        """The chosen backend with its settings, then the installed fallbacks with theirs."""
+        out = [(self.qp_solver, self.backend_options)]
+        for name in self.qp_fallbacks:
+            if name != self.qp_solver and name in installed_solvers():
+                out.append((name, dict(DEFAULT_QP_OPTIONS.get(name, {}))))
+        return out

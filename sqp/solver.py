@@ -232,7 +232,7 @@ def _start_point(problem: Problem, options: Options) -> tuple[Array, Status | No
     empty = linearise(np.zeros((0, n)), np.zeros(0), problem.nonlinear.__class__.from_bounds(np.zeros(0), np.zeros(0)))
     lin = linearise(problem.A, problem.A @ x, problem.linear)
     qp = solve_subproblem(np.eye(n), np.zeros(n), empty, lin, problem.lower - x, problem.upper - x,
-                          solver=options.qp_solver, options=options.backend_options)
+                          backends=options.backends)
     if not qp.found:
         return x, Status.LINEAR_INFEASIBLE
     return np.clip(x + qp.d, problem.lower, problem.upper), None
@@ -247,8 +247,7 @@ def _linearised(problem: Problem, st: _State, c: Array | None = None) -> tuple[L
 def _subproblem(problem: Problem, options: Options, st: _State, rho: float) -> tuple[QPStep, float]:
     nl, lin = _linearised(problem, st)
     x = st.pt.x
-    kw = {"solver": options.qp_solver, "options": options.backend_options,
-          "initvals": None if st.qp is None else st.qp.d}
+    kw = {"backends": options.backends, "initvals": None if st.qp is None else st.qp.d}
     qp = solve_subproblem(st.B, st.der.g, nl, lin, problem.lower - x, problem.upper - x, **kw)
     if qp.found or problem.nonlinear.lb.size == 0:
         return qp, 0.0
@@ -320,7 +319,7 @@ def _second_order_correction(
     nl, lin = _linearised(problem, st, c=c_shift)
     x = st.pt.x
     qp = solve_subproblem(st.B, st.der.g, nl, lin, problem.lower - x, problem.upper - x,
-                          solver=options.qp_solver, options=options.backend_options, initvals=d)
+                          backends=options.backends, initvals=d)
     if not qp.found:
         return None
     return _trial(problem, ev, x, qp.d)

@@ -20,7 +20,7 @@ import contextlib
 import os
 import sys
 import warnings
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -36,13 +36,22 @@ Array = NDArray[np.float64]
 #: Backend settings that make the subproblem accurate enough for the multipliers the merit function and the
 #: BFGS update depend on (OSQP's defaults, eps 1e-3 without polishing, are far too loose for SQP).
 DEFAULT_QP_OPTIONS: dict[str, dict[str, Any]] = {
-    "osqp": {"eps_abs": 1e-10, "eps_rel": 1e-10, "polishing": True, "polish_refine_iter": 5, "max_iter": 20000,
+    "osqp": {"eps_abs": 1e-9, "eps_rel": 1e-9, "polishing": True, "polish_refine_iter": 5, "max_iter": 4000,
              "eps_prim_inf": 1e-7, "eps_dual_inf": 1e-7},
     "proxqp": {"eps_abs": 1e-10, "eps_rel": 0.0},
     "piqp": {"eps_abs": 1e-10, "eps_rel": 1e-12},
     "clarabel": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},
     "daqp": {},
     "quadprog": {},
+}
+
+#: When a backend's answer is not found (OSQP: "solved inaccurate" at the tight default), it is asked again with these
+#: looser tolerances; the answer is still only used if it passes the residual check (:data:`QP_RESIDUAL_TOL`).
+RETRY_QP_OPTIONS: dict[str, list[dict[str, Any]]] = {
+    "osqp": [{"eps_abs": 1e-7, "eps_rel": 1e-7}, {"eps_abs": 1e-5, "eps_rel": 1e-5, "max_iter": 20000}],
+    "proxqp": [{"eps_abs": 1e-7}],
+    "piqp": [{"eps_abs": 1e-7, "eps_rel": 1e-9}],
+    "clarabel": [{"tol_gap_abs": 1e-7, "tol_gap_rel": 1e-7, "tol_feas": 1e-7}],
 }
 
 #: A QP answer is trusted when its primal and dual residuals are below this, relative to the data's scale.
@@ -157,19 +166,44 @@ def _prepare(solver: str, P: Any, G: Any, E: Any) -> tuple[Any, Any, Any]:
     return conv(P), conv(G), conv(E)
 
 
+Backends = Sequence[tuple[str, dict[str, Any]]]
+
+
 def _solve(
-    solver: str, P: Any, q: Array, G: Any, h: Array, E: Any, e: Array, lb: Array | None, ub: Array | None,
-    options: dict[str, Any], initvals: Array | None,
-) -> qpsolvers.Solution | None:
-    P, G, E = _prepare(solver, P, G if G.shape[0] else None, E if E.shape[0] else None)
-    problem = qpsolvers.Problem(P, q, G, h if G is not None else None, E, e if E is not None else None, lb, ub)
-    try:
-        quiet = _silence_c_stdout() if solver == "osqp" else contextlib.nullcontext()
-        with warnings.catch_warnings(), quiet:
-            warnings.simplefilter("ignore")
-            return qpsolvers.solve_problem(problem, solver=solver, initvals=initvals, **options)
-    except Exception:  # a backend error is a failed subproblem, never a crash of the solve
-        return None
+    backends: Backends, P: Any, q: Array, G: Any, h: Array, E: Any, e: Array, lb: Array | None, ub: Array | None,
+    initvals: Array | None, scale: float,
+) -> tuple[qpsolvers.Solution | None, str]:
+    """Ask each backend in turn (with its retries) until one gives an answer that passes the residual check.
+
+    Returns the trusted solution and the backend's name, or ``(None, reason)``; a certified infeasibility ends the
+    search at once (the elastic QP is the remedy for that, not another backend).
+    """
+    reason = "QP failed"
+    for solver, options in backends:
+        Ps, Gs, Es = _prepare(solver, P, G if G.shape[0] else None, E if E.shape[0] else None)
+        problem = qpsolvers.Problem(Ps, q, Gs, h if Gs is not None else None, Es, e if Es is not None else None,
+                                    lb, ub)
+        for retry in [{}, *RETRY_QP_OPTIONS.get(solver, [])]:
+            try:
+                quiet = _silence_c_stdout() if solver == "osqp" else contextlib.nullcontext()
+                with warnings.catch_warnings(), quiet:
+                    warnings.simplefilter("ignore")
+                    sol = qpsolvers.solve_problem(problem, solver=solver, initvals=initvals,
+                                                  **{**options, **retry})
+            except Exception:  # a backend error is a failed subproblem, never a crash of the solve
+                sol = None
+            if _trusted(sol, scale):
+                return sol, solver
+            if sol is not None and _declared_infeasible(sol):
+                return None, "QP infeasible"
+    return None, reason
+
+
+def _declared_infeasible(sol: qpsolvers.Solution) -> bool:
+    """Whether the backend certified primal infeasibility (no point in retrying with looser tolerances)."""
+    info = sol.extras.get("info") if isinstance(sol.extras, dict) else None
+    status = str(getattr(info, "status", "")).lower()
+    return "infeasible" in status and "inaccurate" not in status
 
 
 @contextlib.contextmanager
@@ -215,8 +249,7 @@ def solve_subproblem(
     box_lo: Array,
     box_hi: Array,
     *,
-    solver: str,
-    options: dict[str, Any],
+    backends: Backends,
     initvals: Array | None = None,
     elastic_penalty: float | None = None,
 ) -> QPStep:
@@ -232,8 +265,8 @@ def solve_subproblem(
         Linearised nonlinear rows and the (exact) linear rows, both as ``lo <= M d <= hi``.
     box_lo, box_hi : (n,) arrays
         ``lower - x`` and ``upper - x``.
-    solver, options : str, dict
-        qpsolvers backend and its settings.
+    backends : sequence of (name, settings)
+        qpsolvers backends to ask in turn: the chosen one first, then the fallbacks.
     initvals : (n,) array, optional
         Warm start for the primal step.
     elastic_penalty : float, optional
@@ -244,20 +277,19 @@ def solve_subproblem(
     scale = max(1.0, float(np.max(np.abs(g), initial=0.0)))
     if elastic_penalty is None:
         E, e, G, h, where = _stack_rows([nonlinear, linear], n)
-        sol = _solve(solver, B, g, G, h, E, e, box_lo if has_box else None, box_hi if has_box else None,
-                     options, initvals)
-        if not _trusted(sol, scale):
-            return _failed(n, nonlinear, linear, "QP failed" if sol is None or sol.found else "QP infeasible")
+        sol, used = _solve(backends, B, g, G, h, E, e, box_lo if has_box else None, box_hi if has_box else None,
+                           initvals, scale)
+        if sol is None:
+            return _failed(n, nonlinear, linear, used)
         y = np.zeros(0) if sol.y is None else np.asarray(sol.y, dtype=float).ravel()
         z = np.zeros(0) if sol.z is None else np.asarray(sol.z, dtype=float).ravel()
         zb = -np.asarray(sol.z_box, dtype=float) if (has_box and sol.z_box is not None) else np.zeros(n)
         return QPStep(
             d=sol.x, lam_nl=_row_multipliers(nonlinear.rows, y, z, where[0]),
             lam_lin=_row_multipliers(linear.rows, y, z, where[1]), z=zb, found=True, elastic=False, slack=0.0,
-            status="optimal",
+            status="optimal" if used == backends[0][0] else f"opt[{used}]",
         )
-    return _solve_elastic(B, g, nonlinear, linear, box_lo, box_hi, has_box, solver, options, initvals,
-                          elastic_penalty, scale)
+    return _solve_elastic(B, g, nonlinear, linear, box_lo, box_hi, backends, initvals, elastic_penalty, scale)
 
 
 def _failed(n: int, nonlinear: LinearisedRows, linear: LinearisedRows, status: str) -> QPStep:
@@ -267,7 +299,7 @@ def _failed(n: int, nonlinear: LinearisedRows, linear: LinearisedRows, status: s
 
 def _solve_elastic(
     B: Any, g: Array, nonlinear: LinearisedRows, linear: LinearisedRows, box_lo: Array, box_hi: Array,
-    has_box: bool, solver: str, options: dict[str, Any], initvals: Array | None, rho: float, scale: float,
+    backends: Backends, initvals: Array | None, rho: float, scale: float,
 ) -> QPStep:
     """Elastic QP in variables ``(d, t)``: every nonlinear side gets its own slack ``t >= 0``.
 
@@ -300,8 +332,8 @@ def _solve_elastic(
     lo = np.concatenate([box_lo, np.zeros(k)])
     hi = np.concatenate([box_hi, np.full(k, np.inf)])
     x0 = None if initvals is None else np.concatenate([initvals, np.zeros(k)])
-    sol = _solve(solver, P, q, G, h, E, el, lo, hi, options, x0)
-    if not _trusted(sol, max(scale, rho)):
+    sol, used = _solve(backends, P, q, G, h, E, el, lo, hi, x0, max(scale, rho))
+    if sol is None:
         return _failed(n, nonlinear, linear, "elastic QP failed")
     z = np.zeros(0) if sol.z is None else np.asarray(sol.z, dtype=float).ravel()
     y = np.zeros(0) if sol.y is None else np.asarray(sol.y, dtype=float).ravel()
@@ -312,4 +344,4 @@ def _solve_elastic(
     zb = -sol.z_box[:n] if sol.z_box is not None else np.zeros(n)
     t = np.maximum(sol.x[n:], 0.0)
     return QPStep(d=sol.x[:n], lam_nl=lam_nl, lam_lin=lam_lin, z=zb, found=True, elastic=True,
-                  slack=float(np.sum(t)), status="elastic")
+                  slack=float(np.sum(t)), status="elastic" if used == backends[0][0] else f"elastic[{used}]")

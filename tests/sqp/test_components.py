@@ -10,7 +10,7 @@ import sqp
 from sqp.hessian import damped_bfgs_update
 from sqp.merit import directional_derivative, merit
 from sqp.problem import Rows
-from sqp.subproblem import linearise, solve_subproblem
+from sqp.subproblem import DEFAULT_QP_OPTIONS, linearise, solve_subproblem
 
 
 def test_damped_bfgs_matches_scipy_damp_update():
@@ -57,12 +57,11 @@ def test_elastic_qp_solves_an_inconsistent_linearisation():
     nl = linearise(np.zeros((1, 2)), np.array([-1.0]), rows)
     lin = linearise(np.zeros((0, 2)), np.zeros(0), Rows.from_bounds(np.zeros(0), np.zeros(0)))
     box = np.full(2, np.inf)
-    plain = solve_subproblem(np.eye(2), np.array([1.0, 1.0]), nl, lin, -box, box, solver="osqp", options={})
+    backends = [("osqp", DEFAULT_QP_OPTIONS["osqp"])]
+    plain = solve_subproblem(np.eye(2), np.array([1.0, 1.0]), nl, lin, -box, box, backends=backends)
     assert not plain.found
-    from sqp.subproblem import DEFAULT_QP_OPTIONS
-
-    el = solve_subproblem(np.eye(2), np.array([1.0, 1.0]), nl, lin, -box, box, solver="osqp",
-                          options=DEFAULT_QP_OPTIONS["osqp"], elastic_penalty=100.0)
+    el = solve_subproblem(np.eye(2), np.array([1.0, 1.0]), nl, lin, -box, box, backends=backends,
+                          elastic_penalty=100.0)
     assert el.found and el.elastic
     np.testing.assert_allclose(el.d, [-1.0, -1.0], atol=1e-6)  # the slack absorbs the row; d = -B^-1 g
     assert el.slack == pytest.approx(1.0, abs=1e-6)

@@ -340,7 +340,17 @@ def _hs16() -> TestProblem:
         lambda x: np.array([[1.0, 2.0 * x[1]], [2.0 * x[0], 1.0]]),
     )
     bounds = [(-0.5, 0.5), (None, 1.0)]
-    return _make("HS16", _rosen, _rosen_grad, [-2.0, 1.0], bounds, [con], xstar=[0.5, 0.25])
+    return _make(
+        "HS16",
+        _rosen,
+        _rosen_grad,
+        [-2.0, 1.0],
+        bounds,
+        [con],
+        xstar=[0.5, 0.25],
+        notes="Nonconvex: (-0.5, 1/sqrt(2)) is a local minimiser with f = 23.1447, and solvers started "
+        "from x0 (whose x1 = -2 is clipped to the bound -0.5) usually end there.",
+    )
 
 
 def _hs17() -> TestProblem:
@@ -1079,47 +1089,48 @@ def _hs50() -> TestProblem:
 
 
 _HS51_A = [[1.0, 3.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 1.0, -2.0], [0.0, 1.0, 0.0, 0.0, -1.0]]
+"""Constraint matrix shared by HS51, HS52 and HS53 (they differ in the right-hand side and bounds)."""
+
+
+def _hs51_fun(x: Array) -> float:
+    """Objective shared by HS51 and HS53."""
+    return float((x[0] - x[1]) ** 2 + (x[1] + x[2] - 2.0) ** 2 + (x[3] - 1.0) ** 2 + (x[4] - 1.0) ** 2)
+
+
+def _hs51_jac(x: Array) -> Array:
+    """Gradient of :func:`_hs51_fun`."""
+    a = 2.0 * (x[0] - x[1])
+    b = 2.0 * (x[1] + x[2] - 2.0)
+    return np.array([a, -a + b, b, 2.0 * (x[3] - 1.0), 2.0 * (x[4] - 1.0)])
 
 
 def _hs51() -> TestProblem:
     """HS51: convex quadratic with three linear equalities, n=5, m=3."""
-
-    def fun(x: Array) -> float:
-        return float((x[0] - x[1]) ** 2 + (x[1] + x[2] - 2.0) ** 2 + (x[3] - 1.0) ** 2 + (x[4] - 1.0) ** 2)
-
-    def jac(x: Array) -> Array:
-        a = 2.0 * (x[0] - x[1])
-        b = 2.0 * (x[1] + x[2] - 2.0)
-        return np.array([a, -a + b, b, 2.0 * (x[3] - 1.0), 2.0 * (x[4] - 1.0)])
-
     con = _lin_eq(_HS51_A, [4.0, 0.0, 0.0])
-    return _make("HS51", fun, jac, [2.5, 0.5, 2.0, -1.0, 0.5], None, [con], xstar=[1.0] * 5)
-
-
-def _hs52_fun(x: Array) -> float:
-    """Objective shared by HS52 and HS53."""
-    return float((4.0 * x[0] - x[1]) ** 2 + (x[1] + x[2] - 2.0) ** 2 + (x[3] - 1.0) ** 2 + (x[4] - 1.0) ** 2)
-
-
-def _hs52_jac(x: Array) -> Array:
-    """Gradient of :func:`_hs52_fun`."""
-    a = 2.0 * (4.0 * x[0] - x[1])
-    b = 2.0 * (x[1] + x[2] - 2.0)
-    return np.array([4.0 * a, -a + b, b, 2.0 * (x[3] - 1.0), 2.0 * (x[4] - 1.0)])
+    return _make("HS51", _hs51_fun, _hs51_jac, [2.5, 0.5, 2.0, -1.0, 0.5], None, [con], xstar=[1.0] * 5)
 
 
 def _hs52() -> TestProblem:
-    """HS52: convex quadratic with three homogeneous linear equalities, n=5, m=3."""
+    """HS52: HS51 with 4 x1 in place of x1 and homogeneous equalities, n=5, m=3."""
+
+    def fun(x: Array) -> float:
+        return float((4.0 * x[0] - x[1]) ** 2 + (x[1] + x[2] - 2.0) ** 2 + (x[3] - 1.0) ** 2 + (x[4] - 1.0) ** 2)
+
+    def jac(x: Array) -> Array:
+        a = 2.0 * (4.0 * x[0] - x[1])
+        b = 2.0 * (x[1] + x[2] - 2.0)
+        return np.array([4.0 * a, -a + b, b, 2.0 * (x[3] - 1.0), 2.0 * (x[4] - 1.0)])
+
     con = _lin_eq(_HS51_A, [0.0, 0.0, 0.0])
     xstar = np.array([-33.0, 11.0, 180.0, -158.0, 11.0]) / 349.0
-    return _make("HS52", _hs52_fun, _hs52_jac, [2.0] * 5, None, [con], xstar=xstar)
+    return _make("HS52", fun, jac, [2.0] * 5, None, [con], xstar=xstar)
 
 
 def _hs53() -> TestProblem:
-    """HS53: HS52 on the box -10 <= x <= 10, n=5, m=3."""
+    """HS53: HS51's objective with HS52's homogeneous equalities on the box -10 <= x <= 10, n=5, m=3."""
     con = _lin_eq(_HS51_A, [0.0, 0.0, 0.0])
     xstar = np.array([-33.0, 11.0, 27.0, -5.0, 11.0]) / 43.0
-    return _make("HS53", _hs52_fun, _hs52_jac, [2.0] * 5, [(-10.0, 10.0)] * 5, [con], xstar=xstar)
+    return _make("HS53", _hs51_fun, _hs51_jac, [2.0] * 5, [(-10.0, 10.0)] * 5, [con], xstar=xstar)
 
 
 def _hs54() -> TestProblem:
@@ -1156,7 +1167,9 @@ def _hs54() -> TestProblem:
         bounds,
         [con],
         xstar=xstar,
-        notes="CUTEst's corrected statement (Betts 11.7); variables differ in scale by up to 1e8.",
+        notes="CUTEst's corrected statement (Betts 11.7). Badly scaled (variable scales 5e-2 to 5e8): unscaled "
+        "SLSQP and trust-constr step x5 into the flat tail where f ~ 0 and stall; with x = diag(sigma) y "
+        "both reach f* from x0.",
     )
 
 

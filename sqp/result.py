@@ -22,6 +22,8 @@ class Status(Enum):
     CALLBACK = (6, "Stopped by the callback (StopIteration).")
     SMALL_STEP = (7, "The step became too small to make progress before the KKT residuals fell below tol.")
     LINEAR_INFEASIBLE = (8, "The linear constraints and bounds have no common point.")
+    ACCEPTABLE = (9, "Converged to an acceptable level: the point is feasible to tol and its scaled KKT residuals are "
+                     "below 1e-6, but rounding errors prevent further progress towards tol.")
 
     @property
     def code(self) -> int:

@@ -29,6 +29,8 @@ Array = NDArray[np.float64]
 
 #: Smallest step length tried by the backtracking line search.
 MIN_STEP_LENGTH = 1e-10
+#: Scaled KKT level accepted as success (status ACCEPTABLE) when rounding errors stop progress towards ``tol``.
+ACCEPTABLE_TOL = 1e-6
 #: Largest price of a unit of slack in the elastic QP before a point is declared locally infeasible.
 MAX_ELASTIC_PENALTY = 1e10
 
@@ -190,6 +192,9 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
         search = _line_search(problem, options, ev, st, d)
         if search is None:
             status = _stalled_status(problem, st, d)
+            if kkt.feasibility <= options.tol and max(kkt.stationarity, kkt.complementarity) <= max(
+                    ACCEPTABLE_TOL, options.tol):
+                status = Status.ACCEPTABLE
             break
         new_pt, alpha, soc = search
         new_der = ev.derivatives(new_pt)
@@ -372,7 +377,8 @@ def _result(
     if status is Status.MAX_ITER:
         message = message.replace("max_iter", f"max_iter (now {nit})")
     res = Result(
-        x=xx.copy(), fun=float(f), jac=g, success=status is Status.SUCCESS, status=status.code, message=message,
+        x=xx.copy(), fun=float(f), jac=g, success=status in (Status.SUCCESS, Status.ACCEPTABLE),
+        status=status.code, message=message,
         nit=nit, nfev=ev.nfev, njev=ev.njev, maxcv=float(maxcv),
         constraint_multipliers=problem.split_multipliers(lam_lin, lam_nl),
         bound_multipliers=z.copy(),

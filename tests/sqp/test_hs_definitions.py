@@ -20,7 +20,10 @@ def _points(prob, rng):
     if prob.bounds is not None:
         lo = np.array([-np.inf if b[0] is None else b[0] for b in prob.bounds])
         hi = np.array([np.inf if b[1] is None else b[1] for b in prob.bounds])
-        pts = [np.clip(p, np.minimum(lo + 1e-3 * (1 + abs(lo)), hi), hi - 1e-3 * (1 + abs(hi))) for p in pts]
+        with np.errstate(invalid="ignore"):
+            lo_in = np.where(np.isfinite(lo), lo + 1e-3 * (1 + abs(lo)), -np.inf)
+            hi_in = np.where(np.isfinite(hi), hi - 1e-3 * (1 + abs(hi)), np.inf)
+        pts = [np.clip(p, np.minimum(lo_in, hi), hi_in) for p in pts]
     return pts
 
 

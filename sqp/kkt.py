@@ -21,7 +21,8 @@ class KKTResiduals:
     stationarity : float
         ``||grad f - J^T lam - A^T lam_lin - z||_inf / scale`` with ``scale = max(1, ||grad f||_inf)``.
     feasibility : float
-        Largest absolute violation of any row or bound (the same number as ``maxcv``).
+        Largest absolute violation of any row or bound (the same number as ``maxcv``); the test compares it with
+        ``tol * feasibility_scale``, ``feasibility_scale = max(1, ||x||_inf)``.
     complementarity : float
         Largest ``|lam_i| * slack_i`` of an inequality side (and of a bound), scaled like stationarity, together
         with any multiplier of the wrong sign.
@@ -30,10 +31,15 @@ class KKTResiduals:
     stationarity: float
     feasibility: float
     complementarity: float
+    feasibility_scale: float = 1.0
 
     def satisfied(self, tol: float) -> bool:
-        """All three residuals at most ``tol``."""
-        return bool(self.stationarity <= tol and self.feasibility <= tol and self.complementarity <= tol)
+        """Stationarity and complementarity at most ``tol``; violation at most ``tol * max(1, ||x||_inf)``."""
+        return bool(self.stationarity <= tol and self.feasible(tol) and self.complementarity <= tol)
+
+    def feasible(self, tol: float) -> bool:
+        """Violation at most ``tol * max(1, ||x||_inf)``."""
+        return bool(self.feasibility <= tol * self.feasibility_scale)
 
     @property
     def worst(self) -> float:
@@ -95,4 +101,5 @@ def kkt_residuals(
         stationarity=float(np.max(np.abs(grad_l), initial=0.0)) / scale,
         feasibility=max_violation(problem, x, c, r),
         complementarity=comp / scale,
+        feasibility_scale=max(1.0, float(np.max(np.abs(x), initial=0.0))),
     )

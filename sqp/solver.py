@@ -182,7 +182,7 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
         if nit == options.max_iter:
             break
         d = qp.d
-        if qp.elastic and kkt.feasibility > options.tol and np.max(np.abs(d)) <= 1e-10 * (1 + np.max(np.abs(st.pt.x))):
+        if qp.elastic and not kkt.feasible(options.tol) and np.max(np.abs(d)) <= 1e-10 * (1 + np.max(np.abs(st.pt.x))):
             status = Status.INFEASIBLE  # no step reduces the linearised violation: a stationary point of it
             break
         # the penalties (Eq. 13) and the merit line search (Eq. 12)
@@ -192,7 +192,7 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
         search = _line_search(problem, options, ev, st, d)
         if search is None:
             status = _stalled_status(problem, st, d)
-            if kkt.feasibility <= options.tol and max(kkt.stationarity, kkt.complementarity) <= max(
+            if kkt.feasible(options.tol) and max(kkt.stationarity, kkt.complementarity) <= max(
                     ACCEPTABLE_TOL, options.tol):
                 status = Status.ACCEPTABLE
             break
@@ -302,6 +302,8 @@ def _line_search(
     tried_soc = not options.second_order_correction or rows.lb.size == 0
     while alpha >= MIN_STEP_LENGTH:
         trial = _trial(problem, ev, st.pt.x, alpha * d)
+        if np.array_equal(trial.x, st.pt.x):
+            return None  # the step is below the rounding level of x: no progress is possible along d
         phi = merit(trial.f, trial.c, rows, st.mu)
         if phi <= phi0 + ARMIJO * alpha * D:
             return trial, alpha, False

@@ -187,8 +187,6 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
             break
         # the penalties (Eq. 13) and the merit line search (Eq. 12)
         st.mu = update_penalty(st.mu, qp.lam_nl)
-        if qp.elastic:
-            st.mu = np.maximum(st.mu, rho)
         search = _line_search(problem, options, ev, st, d)
         if search is None:
             status = _stalled_status(problem, st, d)
@@ -250,16 +248,30 @@ def _linearised(problem: Problem, st: _State, c: Array | None = None) -> tuple[L
 
 
 def _subproblem(problem: Problem, options: Options, st: _State, rho: float) -> tuple[QPStep, float]:
+    """The QP at the current iterate; its elastic form when it is inconsistent.
+
+    The slack price starts at ``max(100, 10 max mu, 10 ||g||_inf)`` and grows tenfold (up to
+    :data:`MAX_ELASTIC_PENALTY`) only while the elastic step removes less than a tenth of the linearised violation.
+    """
     nl, lin = _linearised(problem, st)
     x = st.pt.x
     kw = {"backends": options.backends, "initvals": None if st.qp is None else st.qp.d}
     qp = solve_subproblem(st.B, st.der.g, nl, lin, problem.lower - x, problem.upper - x, **kw)
     if qp.found or problem.nonlinear.lb.size == 0:
         return qp, 0.0
-    rho = min(MAX_ELASTIC_PENALTY, max(10.0 * rho, 1e2, 10.0 * float(np.max(st.mu, initial=0.0)),
+    rows = problem.nonlinear
+    v0 = float(np.sum(rows.violation(st.pt.c)))
+    rho = min(MAX_ELASTIC_PENALTY, max(1e2, 10.0 * float(np.max(st.mu, initial=0.0)),
                                        10.0 * float(np.max(np.abs(st.der.g)))))
-    return solve_subproblem(st.B, st.der.g, nl, lin, problem.lower - x, problem.upper - x,
-                            elastic_penalty=rho, **kw), rho
+    while True:
+        qp = solve_subproblem(st.B, st.der.g, nl, lin, problem.lower - x, problem.upper - x, elastic_penalty=rho,
+                              **kw)
+        if not qp.found or rho >= MAX_ELASTIC_PENALTY:
+            return qp, rho
+        v1 = float(np.sum(rows.violation(st.pt.c + st.der.J @ qp.d)))
+        if v0 - v1 >= 0.1 * v0:
+            return qp, rho
+        rho = min(MAX_ELASTIC_PENALTY, 10.0 * rho)
 
 
 def _kkt(problem: Problem, st: _State) -> KKTResiduals:

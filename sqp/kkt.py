@@ -19,7 +19,9 @@ class KKTResiduals:
     Attributes
     ----------
     stationarity : float
-        ``||grad f - J^T lam - A^T lam_lin - z||_inf / scale`` with ``scale = max(1, ||grad f||_inf)``.
+        ``||D (grad f - J^T lam - A^T lam_lin - z)||_inf / max(1, ||D grad f||_inf)`` with
+        ``D = diag(max(1, |x_i|))``: the change of the Lagrangian for a unit change of every variable, or a relative
+        one for variables larger than 1, so that a tiny gradient of a huge variable is not taken for stationarity.
     feasibility : float
         Largest absolute violation of any row or bound (the same number as ``maxcv``); the test compares it with
         ``tol * feasibility_scale``, ``feasibility_scale = max(1, ||x||_inf)``.
@@ -89,8 +91,9 @@ def kkt_residuals(
     problem: Problem, x: Array, g: Array, c: Array, J: Array, r: Array, lam_nl: Array, lam_lin: Array, z: Array
 ) -> KKTResiduals:
     """KKT residuals at ``x`` for the multipliers ``(lam_nl, lam_lin, z)`` (engine sign convention)."""
-    grad_l = lagrangian_gradient(g, J, lam_nl, problem.A, lam_lin, z)
-    scale = max(1.0, float(np.max(np.abs(g), initial=0.0)))
+    typical = np.maximum(1.0, np.abs(x))  # a unit change of a variable is relative to its size beyond 1
+    grad_l = lagrangian_gradient(g, J, lam_nl, problem.A, lam_lin, z) * typical
+    scale = max(1.0, float(np.max(np.abs(g * typical), initial=0.0)))
     bounds = Rows.from_bounds(problem.lower, problem.upper)
     comp = max(
         _complementarity(problem.nonlinear, c, lam_nl),

@@ -31,6 +31,8 @@ Array = NDArray[np.float64]
 MIN_STEP_LENGTH = 1e-10
 #: Scaled KKT level accepted as success (status ACCEPTABLE) when rounding errors stop progress towards ``tol``.
 ACCEPTABLE_TOL = 1e-6
+#: Consecutive steps below the rounding level of x (relative 1e-12) after which the solve stops.
+STALL_ITERATIONS = 3
 #: Largest price of a unit of slack in the elastic QP before a point is declared locally infeasible.
 MAX_ELASTIC_PENALTY = 1e10
 
@@ -162,6 +164,7 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
         print(HEADER)
     status = Status.MAX_ITER
     rho = 0.0
+    stalled = 0
     for nit in range(options.max_iter + 1):
         if exact:  # the exact Lagrangian Hessian at (x_k, lam_{k-1}), made positive definite
             lam_prev = st.qp.lam_nl if st.qp is not None else np.zeros(problem.nonlinear.lb.size)
@@ -188,8 +191,12 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
         # the penalties (Eq. 13) and the merit line search (Eq. 12)
         st.mu = update_penalty(st.mu, qp.lam_nl)
         search = _line_search(problem, options, ev, st, d)
-        if search is None:
-            status = _stalled_status(problem, st, d)
+        if search is not None and _negligible(st.pt.x, search[0].x):
+            stalled += 1
+        else:
+            stalled = 0
+        if search is None or stalled >= STALL_ITERATIONS:
+            status = _stalled_status(problem, st, d) if search is None else Status.SMALL_STEP
             if kkt.feasible(options.tol) and max(kkt.stationarity, kkt.complementarity) <= max(
                     ACCEPTABLE_TOL, options.tol):
                 status = Status.ACCEPTABLE
@@ -342,6 +349,11 @@ def _second_order_correction(
     if not qp.found:
         return None
     return _trial(problem, ev, x, qp.d)
+
+
+def _negligible(x: Array, x_new: Array) -> bool:
+    """Whether a step changed x by less than a relative 1e-12 (rounding noise in f or c drives such steps)."""
+    return bool(np.max(np.abs(x_new - x), initial=0.0) <= 1e-12 * (1.0 + np.max(np.abs(x), initial=0.0)))
 
 
 def _stalled_status(problem: Problem, st: _State, d: Array) -> Status:

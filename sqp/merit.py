@@ -49,3 +49,15 @@ def next_step_length(alpha: float, phi0: float, D: float, phi_alpha: float) -> f
     denom = 2.0 * (phi_alpha - phi0 - D * alpha)
     trial = -D * alpha * alpha / denom if denom > 0 else BACKTRACK_MAX * alpha
     return float(np.clip(trial, BACKTRACK_MIN * alpha, BACKTRACK_MAX * alpha))
+
+
+def descent_penalty(gd: float, dBd: float, violation_decrease: float, rho: float = 0.5) -> float:
+    """Smallest uniform penalty making ``d`` a descent direction of enough decrease (Nocedal & Wright, Eq. 18.36).
+
+    ``mu >= (g^T d + 1/2 d^T B d) / ((1 - rho) * dv)`` where ``dv = v(c) - v(c + J d)`` is the decrease of the
+    linearised violation. Powell's update (Eq. 13) alone leaves ``mu = 0`` for a violated row whose QP multiplier is
+    zero, and the line search would then trade feasibility for objective decrease.
+    """
+    if violation_decrease <= 0.0:
+        return 0.0
+    return max(0.0, (gd + 0.5 * max(dBd, 0.0)) / ((1.0 - rho) * violation_decrease))

@@ -18,7 +18,7 @@ from scipy.optimize import OptimizeResult
 from sqp.hessian import convexify, damped_bfgs_update, initial_scaling
 from sqp.iterate import Derivatives, Evaluator, Point
 from sqp.kkt import KKTResiduals, kkt_residuals, lagrangian_gradient, max_violation
-from sqp.merit import ARMIJO, directional_derivative, merit, next_step_length, update_penalty
+from sqp.merit import ARMIJO, descent_penalty, directional_derivative, merit, next_step_length, update_penalty
 from sqp.options import Options
 from sqp.problem import Problem, build_problem
 from sqp.report import HEADER, format_row
@@ -190,6 +190,10 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
             break
         # the penalties (Eq. 13) and the merit line search (Eq. 12)
         st.mu = update_penalty(st.mu, qp.lam_nl)
+        if st.mu.size:
+            rows = problem.nonlinear
+            dv = float(np.sum(rows.violation(st.pt.c)) - np.sum(rows.violation(st.pt.c + st.der.J @ d)))
+            st.mu = np.maximum(st.mu, descent_penalty(float(st.der.g @ d), float(d @ (st.B @ d)), dv))
         search = _line_search(problem, options, ev, st, d)
         if search is not None and _negligible(st.pt.x, search[0].x):
             stalled += 1

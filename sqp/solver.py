@@ -195,6 +195,11 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
             dv = float(np.sum(rows.violation(st.pt.c)) - np.sum(rows.violation(st.pt.c + st.der.J @ d)))
             st.mu = np.maximum(st.mu, descent_penalty(float(st.der.g @ d), float(d @ (st.B @ d)), dv))
         search = _line_search(problem, options, ev, st, d)
+        if search is None and np.max(st.mu, initial=0.0) > 10.0 * max(float(np.max(np.abs(qp.lam_nl), initial=0.0)),
+                                                                        1e-12):
+            # penalties inflated by early, poorly scaled multipliers: restart them from the current ones (Eq. 13)
+            st.mu = np.abs(qp.lam_nl)
+            search = _line_search(problem, options, ev, st, d)
         if search is not None and _negligible(st.pt.x, search[0].x):
             stalled += 1
         else:

@@ -47,7 +47,7 @@ def minimize(
     args: tuple[Any, ...] = (),
     hess: Callable[..., Any] | None = None,
     hess0: Any = None,
-    qp_solver: str = "osqp",
+    qp_solver: str = "daqp",
     qp_options: dict[str, Any] | None = None,
     tol: float = 1e-8,
     max_iter: int = 500,
@@ -80,7 +80,9 @@ def minimize(
         Initial Lagrangian Hessian approximation (e.g. the objective's known Hessian); symmetric, positive
         semidefinite (shifted to positive definite if needed). Default: identity, rescaled after the first step.
     qp_solver : str
-        qpsolvers backend for the subproblems ("osqp" by default; any installed backend).
+        qpsolvers backend for the subproblems: "daqp" (dense active set) by default — measured the most accurate and
+        fastest on the Hock–Schittkowski subproblems (see ``benchmarks/results/hock_schittkowski.md``); "osqp" (with
+        SQP-grade accuracy settings, warm-started) or any other installed backend by name.
     qp_options : dict, optional
         Backend settings merged over the engine's accurate defaults.
     tol : float

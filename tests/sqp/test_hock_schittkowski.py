@@ -14,7 +14,24 @@ from sqp.problems.hock_schittkowski import BUILDERS
 from sqp.problems.judge import judge
 
 #: name -> why the engine does not solve it (kept visible as xfail, strict: an unexpected pass is reported).
-EXPECTED_FAILURES: dict[str, str] = {}
+EXPECTED_FAILURES: dict[str, str] = {
+    "HS13": "no constraint qualification holds at the minimiser (1, 0) (a cusp); the line search stalls just short of "
+            "it (feasible, f within 4e-5 of f*) without a KKT certificate, so the status is LINE_SEARCH, not success",
+    "HS16": "from x0 (clipped to (-0.5, 1)) the iterates reach the local minimum (-0.5, 1/sqrt 2), f = 23.14; "
+            "SLSQP and trust-constr stop there too",
+    "HS54": "badly scaled (variables from 1e-3 to 1e8): BFGS stalls at f = -0.8674 with scaled stationarity 0.14 and "
+            "stops with SMALL_STEP (SLSQP and trust-constr claim success at f = 0)",
+    "HS59": "converges to the local minimum f = -6.7495, as SLSQP and trust-constr do",
+    "HS61": "from x0 = 0 the constraint Jacobian has rank one (x2, x3 enter squared): the linearisations ask for huge "
+            "steps, the multipliers grow without bound and the line search stalls (SLSQP: 'Singular matrix C'); "
+            "solved from the same x0 when hess0 is the objective Hessian",
+    "HS88": "the first step reaches x = 0 where the constraint gradient vanishes, a local minimiser of the violation: "
+            "reported INFEASIBLE (SLSQP stops at x = 0 too; trust-constr solves it)",
+    "HS90": "as HS88: stuck at x = 0 where the constraint gradient vanishes; reported INFEASIBLE",
+    "HS92": "as HS88: stuck at x = 0 where the constraint gradient vanishes; reported INFEASIBLE",
+    "HS97": "converges to the local minimum f = 4.0712 (SLSQP reaches 3.1358 but claims no success)",
+    "HS98": "converges to the local minimum f = 4.0712 (SLSQP reaches f* = 3.1358)",
+}
 
 
 def _params():

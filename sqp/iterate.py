@@ -31,10 +31,15 @@ class Point:
 
 @dataclass(frozen=True)
 class Derivatives:
-    """Objective gradient ``g`` (n,) and nonlinear-row Jacobian ``J`` (m, n) at a point."""
+    """Objective gradient ``g`` (n,) and nonlinear-row Jacobian ``J`` (m, n; dense or CSR) at a point."""
 
     g: Array
-    J: Array
+    J: Any
+
+    @property
+    def finite(self) -> bool:
+        data = self.J.data if sp.issparse(self.J) else self.J
+        return bool(np.all(np.isfinite(self.g)) and np.all(np.isfinite(data)))
 
 
 class Evaluator:
@@ -75,7 +80,8 @@ class Evaluator:
         else:
             g = np.asarray(p.grad(x.copy()), dtype=float).reshape(-1)
         if p.blocks:
-            J = np.vstack([block_jacobian(b, x.copy(), p.lower, p.upper) for b in p.blocks])
+            parts = [block_jacobian(b, x.copy(), p.lower, p.upper) for b in p.blocks]
+            J = sp.vstack(parts, format="csr") if any(sp.issparse(m) for m in parts) else np.vstack(parts)
         else:
             J = np.zeros((0, x.size))
         return Derivatives(g=g, J=J)

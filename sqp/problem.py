@@ -335,12 +335,13 @@ def _check_shapes(problem: Problem, x: Array) -> None:
                              f"expected ({block.size}, {n}).")
 
 
-def block_jacobian(block: NonlinearBlock, x: Array, lower: Array, upper: Array) -> Array:
-    """Jacobian of one nonlinear block: the user's callable or forward differences kept inside the bounds."""
+def block_jacobian(block: NonlinearBlock, x: Array, lower: Array, upper: Array) -> Any:
+    """Jacobian of one nonlinear block: the user's callable (a sparse answer stays sparse, CSR) or forward
+    differences kept inside the bounds."""
     if block.jac is None:
         return forward_difference(lambda z: np.atleast_1d(np.asarray(block.fun(z), dtype=float)), x, lower, upper)
     J = block.jac(x)
     if sp.issparse(J):
-        return J.toarray()
+        return sp.csr_matrix(J)
     return np.atleast_2d(np.asarray(J, dtype=float)).reshape(block.size, x.size)
 

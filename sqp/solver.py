@@ -155,7 +155,7 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
     if not pt.finite:
         return _result(problem, ev, pt, None, None, Status.NONFINITE, history, t_start)
     der = ev.derivatives(pt)
-    if not (np.all(np.isfinite(der.g)) and np.all(np.isfinite(der.J))):
+    if not der.finite:
         return _result(problem, ev, pt, der, None, Status.NONFINITE, history, t_start)
     exact = problem.hess is not None
     scaled_start = B0 is None and not exact
@@ -214,7 +214,7 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
             break
         new_pt, alpha, soc = search
         new_der = ev.derivatives(new_pt)
-        if not (np.all(np.isfinite(new_der.g)) and np.all(np.isfinite(new_der.J))):
+        if not new_der.finite:
             status = Status.NONFINITE
             break
         # the damped BFGS update (Eq. 6)

@@ -201,3 +201,22 @@ def test_bad_input_is_refused_before_any_work(kwargs, exc, text):
     with pytest.raises(exc) as info:
         sqp.minimize(**args)
     assert text in str(info.value)
+
+
+@pytest.mark.parametrize("backend", ["daqp", "osqp"])
+def test_exact_sparse_hessian_and_sparse_jacobian(backend):
+    """min sum (x_i - t_i)^2 on the sphere |x|^2 = 1: exact answer t/|t|; Newton-fast with the exact Hessian."""
+    import scipy.sparse as sps
+
+    n = 40
+    t = np.linspace(1.0, 2.0, n)
+    con = NonlinearConstraint(lambda x: np.array([x @ x]), 1.0, 1.0, jac=lambda x: sps.csr_matrix(2 * x[None, :]),
+                              hess=lambda x, v: sps.identity(n, format="csc") * (2 * v[0]))
+    res = sqp.minimize(lambda x: np.sum((x - t) ** 2), np.ones(n) / np.sqrt(n), lambda x: 2 * (x - t),
+                       constraints=[con], hess=lambda x: sps.identity(n, format="csc") * 2.0, qp_solver=backend)
+    assert res.success, res.message
+    np.testing.assert_allclose(res.x, t / np.linalg.norm(t), atol=1e-8)
+    assert res.nit <= 8  # Newton's method, not BFGS's hundreds of steps
+    bfgs = sqp.minimize(lambda x: np.sum((x - t) ** 2), np.ones(n) / np.sqrt(n), lambda x: 2 * (x - t),
+                        constraints=[con], qp_solver=backend)
+    assert bfgs.success and res.nit < bfgs.nit

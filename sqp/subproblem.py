@@ -38,7 +38,7 @@ Array = NDArray[np.float64]
 DEFAULT_QP_OPTIONS: dict[str, dict[str, Any]] = {
     "osqp": {"eps_abs": 1e-9, "eps_rel": 1e-9, "polishing": True, "polish_refine_iter": 5, "max_iter": 4000,
              "eps_prim_inf": 1e-7, "eps_dual_inf": 1e-7},
-    "proxqp": {"eps_abs": 1e-10, "eps_rel": 0.0},
+    "proxqp": {"eps_abs": 1e-10, "eps_rel": 0.0, "max_iter": 1000},
     "piqp": {"eps_abs": 1e-10, "eps_rel": 1e-12},
     "clarabel": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},
     "daqp": {},

@@ -633,11 +633,16 @@ def clamped_segment_equilibria(
     -----
     Initial guesses: the cubic Hermite curve through the poses (tangent scale chosen so that its length is
     ``length``) resampled by arc length; the roots of ``θ = θ0 + Δθ u + a sin πu + b sin 2πu`` that meet the
-    chord exactly (a batched Newton iteration from a 5 x 3 grid of ``(a, b)``, covering both bending senses
-    and S-shapes); circular arcs tangent at either end, turning either way.  The internal force guess is a
-    least-squares fit of the elastica equation along each profile.  Every guess goes through
-    :func:`scipy.integrate.solve_bvp` (``tol = 1e-6``); the distinct converged branches are then polished by
-    Newton shooting to an end-pose error below ``1e-11 * length``.
+    chord exactly (a batched Newton iteration from a 7 x 5 grid of ``(a, b)``, covering both bending senses
+    and S-shapes); the circular arc ``θ = θ0 + Δθ u``.  The internal force guess is a least-squares fit of
+    the elastica equation along each profile.  Every guess goes through :func:`scipy.integrate.solve_bvp`
+    (``tol = 1e-6``); the distinct converged branches are then polished by Newton shooting to an end-pose
+    error below ``1e-11 * length``.
+
+    A symmetric scene can have two lowest-energy equilibria.  With equal end angles (Table 1 with
+    ``θ_B = 0``) the problem is invariant under ``γ(s) → p0 + p1 - γ(L - s)`` (point reflection through the
+    chord midpoint and reversal), and an asymmetric minimiser has a twin of equal energy; both are listed,
+    in the order the guesses (Hermite first) reached them, and :func:`clamped_segment` returns the first.
     """
     p0, theta0, p1, theta1, length, EI = _validate_segment(p0, theta0, p1, theta1, length, EI)
     if _feasibility(p0, theta0, p1, theta1, length):
@@ -653,23 +658,26 @@ def clamped_segment_equilibria(
         if any(np.max(np.abs(q - q2) / (1.0 + np.abs(q2))) < 1e-4 for _, q2 in found):
             continue
         found.append((float(np.trapezoid(res.y[3] ** 2, res.x)), q))
-    found.sort(key=lambda item: item[0])
     shapes: list[ContinuumShape] = []
+    polished_q: list[Array] = []
     for _, q in found:
         polished = _shoot(theta0, theta1, X1, Y1, q)
         if polished is None:
             continue
         qp, sol = polished
-        piece = _piece(0.0, length, p0, theta0, qp[0], qp[1:], EI, sol)
-        if any(abs(piece.energy - sh.energy) <= 1e-9 * max(sh.energy, 1e-300) for sh in shapes):
+        if any(np.max(np.abs(qp - q2) / (1.0 + np.abs(q2))) < 1e-6 for q2 in polished_q):
             continue
+        polished_q.append(qp)
+        piece = _piece(0.0, length, p0, theta0, qp[0], qp[1:], EI, sol)
         shapes.append(_assemble([piece], length, EI, p0, [(length, "clamp")]))
     if not shapes:
         raise RuntimeError(
             f"no clamped elastica found between {_fmt(p0)} at {theta0:g} rad and {_fmt(p1)} at "
             f"{theta1:g} rad with length {length:g} mm"
         )
-    shapes.sort(key=lambda sh: sh.energy)
+    # energy order; equal energies (mirror twins, to 1e-9) keep the guess order, Hermite first
+    lowest = min(sh.energy for sh in shapes)
+    shapes.sort(key=lambda sh: max(sh.energy, lowest * (1.0 + 1e-9)))
     return shapes
 
 
@@ -874,15 +882,12 @@ def clamp_wall_free_end(
     depth = c - float(n @ p0)
     alpha = math.atan2(n[1], n[0])
     phi0 = math.remainder(theta0 - alpha, 2.0 * math.pi)
+    if depth < 0.0:
+        raise ValueError(f"p0 = {_fmt(p0)} lies {-depth:.6g} mm beyond the wall")
     if length * math.cos(phi0) <= depth:
-        if depth < 0.0:
-            raise ValueError(f"p0 = {_fmt(p0)} lies {-depth:.6g} mm beyond the wall")
         return straight_shape(p0, theta0, length, EI)
-    if depth <= 0.0:
-        raise ValueError(
-            f"p0 = {_fmt(p0)} must lie strictly inside the wall (distance {depth:.6g} mm) when the wire is "
-            "pushed against it"
-        )
+    if depth == 0.0:
+        raise ValueError(f"p0 = {_fmt(p0)} lies on the wall and the wire points into it")
     best: ContinuumShape | None = None
     for sigma in (1.0, -1.0):
         for amp, lam, ell in _wall_parameters(phi0, sigma, depth, length):

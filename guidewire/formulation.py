@@ -1,0 +1,269 @@
+"""A scene as a nonlinear program for :func:`sqp.minimize`: energy, constraint rows, start, bookkeeping.
+
+Variables: the absolute bar angles ``φ`` (n,) of :mod:`guidewire.chain`. Objective: the bending energy of
+:mod:`guidewire.energy` (N·mm), quadratic in ``φ``; its exact constant Hessian is passed as ``hess0``.
+
+Constraint blocks, in this order, each present only when the scene needs it ("leave out what a scene does not
+need"):
+
+``position``  (SLSQP ``eq`` dict; Eqs. 20–21)
+    ``p_k(φ) − P = 0``: two rows (x, y) per contact with a point, in contact order. Multiplier = the force (N) the
+    contact exerts on the wire.
+``angle``  (``LinearConstraint``, lb = ub; Eqs. 16–18; ``scheme = "paper"`` only)
+    ``φ_k = θ*``: one row per contact with an angle, on the bar ending at the contact node. Multiplier = the
+    moment (N·mm, counter-clockwise) the contact exerts on the wire. In the second-order scheme prescribed angles
+    are energy terms and this block does not exist.
+``wall``  (SLSQP ``ineq`` dict, one block per wall; Eqs. 23–24)
+    ``offset/|a| − â · p_k ≥ 0`` for nodes ``k = 1..n`` (the base node is fixed and checked once, before solving),
+    a distance in mm. Multiplier = the magnitude (N) of the wall's push on the node, along ``−â``.
+``relative_angle``  (``LinearConstraint``, two-sided; Eq. 19, only with ``wire.max_relative_angle``)
+    ``−b₂ ≤ Δθ_node ≤ b₂`` for every node with a joint: the paper's bounds on ``Δθ``, which in absolute angles are
+    differences of neighbours (still exact and linear).
+
+No variable bounds are used. Multiplier signs follow :func:`sqp.minimize`: ``∇E = Σ_i J_iᵀ λ_i``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import LinearConstraint
+
+from .chain import BarChain, place_bars
+from .energy import EnergyTerms, bending_terms
+from .initial_shape import initial_angles as default_initial_angles
+from .scene import SCHEMES, Scene
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int_]
+
+HESSIAN_REGULARISATION = 1e-6
+"""Relative shift ``δ·max diag`` added to ``hess0`` when no prescribed angle anchors the rotation of the wire (then
+the energy Hessian is singular along a rigid rotation about the base)."""
+
+
+@dataclass(frozen=True)
+class ConstraintBlock:
+    """Which entry of the ``constraints`` list holds what.
+
+    Attributes
+    ----------
+    kind : {"position", "angle", "wall", "relative_angle"}
+    index : int
+        Position in ``Formulation.constraints`` (and in ``res.constraint_multipliers``).
+    members : tuple of int
+        Contact indices (``position``: one per contact, two rows each; ``angle``: one row each), the wall index
+        (``wall``), or the nodes (``relative_angle``).
+    nodes : ndarray of int
+        The node of every row.
+    """
+
+    kind: str
+    index: int
+    members: tuple[int, ...]
+    nodes: IntArray
+
+    @property
+    def rows(self) -> int:
+        """Number of constraint rows."""
+        return int(self.nodes.size)
+
+
+def _position_constraint(chain: BarChain, nodes: IntArray, targets: FloatArray) -> dict[str, Any]:
+    """``p_k(φ) − P`` for the contact nodes, rows (x₁, y₁, x₂, y₂, ...)."""
+
+    def fun(phi: FloatArray) -> FloatArray:
+        return (chain.nodes(phi)[nodes] - targets).ravel()
+
+    def jac(phi: FloatArray) -> FloatArray:
+        return chain.node_jacobian(phi, nodes).reshape(2 * nodes.size, chain.n_bars)
+
+    return {"type": "eq", "fun": fun, "jac": jac}
+
+
+def _wall_constraint(chain: BarChain, normal: tuple[float, float], offset: float) -> dict[str, Any]:
+    """``offset − n̂ · p_k ≥ 0`` for nodes 1..n (unit normal, mm)."""
+    nx, ny = normal
+
+    def fun(phi: FloatArray) -> FloatArray:
+        return offset - chain.nodes(phi)[1:] @ np.array([nx, ny])
+
+    def jac(phi: FloatArray) -> FloatArray:
+        row = chain.lengths * (-nx * np.sin(phi) + ny * np.cos(phi))  # n̂ · ∂p/∂φ_j
+        return -np.tril(np.broadcast_to(row, (chain.n_bars, chain.n_bars)))
+
+    return {"type": "ineq", "fun": fun, "jac": jac}
+
+
+@dataclass(frozen=True)
+class Formulation:
+    """The nonlinear program of one scene (see the module docstring for the blocks).
+
+    Attributes
+    ----------
+    scene : Scene
+        The scene, with ``bars`` and ``scheme`` as solved.
+    scheme : str
+    chain : BarChain
+    contact_nodes : ndarray of int, shape (len(scene.contacts),)
+    energy : EnergyTerms
+    blocks : tuple of ConstraintBlock
+    constraints : tuple
+        Arguments for ``sqp.minimize(constraints=...)``, in the order of ``blocks``.
+    hess0 : ndarray, shape (n, n)
+        The exact energy Hessian (plus a tiny shift when it is singular).
+    x0 : ndarray, shape (n,)
+        Starting bar angles.
+    """
+
+    scene: Scene
+    scheme: str
+    chain: BarChain
+    contact_nodes: IntArray
+    energy: EnergyTerms
+    blocks: tuple[ConstraintBlock, ...]
+    constraints: tuple[Any, ...]
+    hess0: FloatArray
+    x0: FloatArray
+
+    @property
+    def n(self) -> int:
+        """Number of variables (bars)."""
+        return self.chain.n_bars
+
+    def fun(self, phi: FloatArray) -> float:
+        """Bending energy in N·mm."""
+        return self.energy.value(phi)
+
+    def jac(self, phi: FloatArray) -> FloatArray:
+        """Gradient of the energy, shape (n,)."""
+        return self.energy.gradient(phi)
+
+    def block(self, kind: str) -> tuple[ConstraintBlock, ...]:
+        """The blocks of one kind (possibly none)."""
+        return tuple(b for b in self.blocks if b.kind == kind)
+
+    def arguments(self) -> dict[str, Any]:
+        """Keyword arguments for ``sqp.minimize`` (and, without ``hess0``, ``scipy.optimize.minimize``)."""
+        return {
+            "fun": self.fun, "x0": self.x0, "jac": self.jac, "bounds": None,
+            "constraints": list(self.constraints), "hess0": self.hess0,
+        }
+
+    def violations(self, phi: FloatArray) -> FloatArray:
+        """Constraint violation of every row at ``phi`` (≥ 0), concatenated in block order."""
+        parts = [np.zeros(0)]
+        for con in self.constraints:
+            if isinstance(con, LinearConstraint):
+                ax = con.A @ phi
+                parts.append(np.maximum(np.maximum(con.lb - ax, ax - con.ub), 0.0))
+            else:
+                c = np.asarray(con["fun"](phi), dtype=float)
+                parts.append(np.abs(c) if con["type"] == "eq" else np.maximum(-c, 0.0))
+        return np.concatenate(parts)
+
+
+def _check_initial(x0: Any, n: int, name: str, shape: tuple[int, ...]) -> FloatArray:
+    arr = np.asarray(x0, dtype=float)
+    if arr.shape != shape:
+        raise ValueError(f"{name} has shape {arr.shape}; expected {shape} for {n} bars.")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} contains NaN or inf; pass finite values.")
+    return arr
+
+
+def formulate(
+    scene: Scene,
+    *,
+    scheme: str | None = None,
+    bars: int | None = None,
+    initial_angles: Any = None,
+    initial_nodes: Any = None,
+) -> Formulation:
+    """Turn ``scene`` into the arguments of :func:`sqp.minimize`.
+
+    Parameters
+    ----------
+    scene : Scene
+    scheme : {"second_order", "paper"}, optional
+        Overrides ``scene.wire.scheme``.
+    bars : int, optional
+        Overrides ``scene.wire.bars``.
+    initial_angles : array_like, shape (n,), optional
+        Starting bar angles (rad).
+    initial_nodes : array_like, shape (n + 1, 2), optional
+        Starting node positions (base first); only their directions are used.
+
+    Returns
+    -------
+    Formulation
+
+    Raises
+    ------
+    ValueError
+        For an unknown scheme, a bad start, or an infeasible scene (:meth:`Scene.check_feasible`).
+    """
+    if scheme is not None:
+        if scheme not in SCHEMES:
+            raise ValueError(f"scheme is {scheme!r}; expected one of {', '.join(map(repr, SCHEMES))}.")
+        scene = scene.with_scheme(scheme)
+    if bars is not None:
+        scene = scene.with_bars(bars)
+    if initial_angles is not None and initial_nodes is not None:
+        raise ValueError("pass initial_angles or initial_nodes, not both.")
+    scene.check_feasible()
+    wire, contacts = scene.wire, scene.contacts
+    lengths, contact_nodes = place_bars(wire.length, wire.bars, [c.s for c in contacts])
+    chain = BarChain(np.asarray(scene.base.point, dtype=float), lengths)
+    n = chain.n_bars
+
+    angle_ids = [i for i, c in enumerate(contacts) if c.angle is not None]
+    angle_nodes = contact_nodes[angle_ids]
+    angle_values = np.array([contacts[i].angle for i in angle_ids], dtype=float)
+    energy = bending_terms(lengths, wire.bending_stiffness, wire.scheme, scene.base.angle, angle_nodes, angle_values)
+
+    blocks: list[ConstraintBlock] = []
+    constraints: list[Any] = []
+
+    def add(kind: str, members: list[int] | tuple[int, ...], nodes: IntArray, con: Any) -> None:
+        blocks.append(ConstraintBlock(kind, len(constraints), tuple(int(m) for m in members), nodes))
+        constraints.append(con)
+
+    pos_ids = [i for i, c in enumerate(contacts) if c.point is not None]
+    if pos_ids:
+        targets = np.array([contacts[i].point for i in pos_ids], dtype=float)
+        nodes = contact_nodes[pos_ids]
+        add("position", pos_ids, np.repeat(nodes, 2), _position_constraint(chain, nodes, targets))
+    if wire.scheme == "paper" and angle_ids:
+        rows = np.zeros((len(angle_ids), n))
+        rows[np.arange(len(angle_ids)), angle_nodes - 1] = 1.0
+        add("angle", angle_ids, angle_nodes, LinearConstraint(rows, angle_values, angle_values))
+    for j, wall in enumerate(scene.walls):
+        normal, offset = wall.unit()
+        add("wall", (j,), np.arange(1, n + 1), _wall_constraint(chain, normal, offset))
+    if wire.max_relative_angle is not None:
+        node_rows, node_offsets = energy.node_rows(n + 1)
+        joint_nodes = np.unique(energy.node)
+        b2 = wire.max_relative_angle
+        lin = LinearConstraint(node_rows[joint_nodes], node_offsets[joint_nodes] - b2, node_offsets[joint_nodes] + b2)
+        add("relative_angle", tuple(joint_nodes), joint_nodes, lin)
+
+    hess0 = energy.hessian()
+    if not np.any(np.abs(energy.matrix.sum(axis=1)) > 0.0):  # only differences: rigid rotation is a null direction
+        hess0 = hess0 + HESSIAN_REGULARISATION * max(float(np.max(np.diag(hess0), initial=0.0)), 1.0) * np.eye(n)
+
+    if initial_angles is not None:
+        x0 = _check_initial(initial_angles, n, "initial_angles", (n,))
+    elif initial_nodes is not None:
+        x0 = chain.angles_from_nodes(_check_initial(initial_nodes, n, "initial_nodes", (n + 1, 2)))
+    else:
+        x0 = default_initial_angles(scene, chain, contact_nodes)
+    return Formulation(
+        scene=scene, scheme=wire.scheme, chain=chain, contact_nodes=contact_nodes, energy=energy,
+        blocks=tuple(blocks), constraints=tuple(constraints), hess0=hess0, x0=x0,
+    )
+
+

@@ -1,0 +1,182 @@
+"""The default starting shape: a smooth curve through the contact poses, re-sampled onto the bar chain.
+
+Several equilibria exist (for Table 1 with θ_B = 0 a straight start and an arc start reach different local minima), so
+the start decides which one the solver finds. The default start aims at the lowest-energy one:
+
+1. Poses: the base and every contact with a point, each with a tangent. A missing tangent is estimated: at an
+   interior pose, the direction from the previous to the next pose; at an end, the circular-arc reflection
+   ``2·chord − θ_neighbour`` (exact for a circular arc), or the chord when the neighbour's tangent is unknown too.
+2. Between consecutive poses: a curve exactly as long as the wire between them, with the poses' tangents at both
+   ends and passing through both points. Its tangent angle is ``θ(s) = θ₀ + (θ₁ − θ₀) s/ℓ + c₁ sin(πs/ℓ) +
+   c₂ sin(2πs/ℓ)``; the two coefficients that close the curve on the next point are found by Newton's method from a
+   9 × 9 grid of starts (vectorised), and of the closing curves the one with the least ``∫ θ'² ds`` is taken — a
+   two-mode elastica, so the start sits in the basin of the lowest-energy equilibrium. (A cubic Hermite curve,
+   the obvious alternative, is shorter than the wire unless its tangents are so long that it loops.) Each bar takes
+   the curve's angle at its midpoint, so the start satisfies the position constraints to O((L/n)²).
+3. Beyond the last pose (a free end, or the whole wire when there is no contact): a circular arc continuing the last
+   tangent with the smallest curvature ``|κ|`` (either sign, 0 included) whose nodes satisfy every wall, times a 5 %
+   margin. Without walls this is a straight continuation, the free end's exact minimum. With walls it is a curved,
+   strictly feasible start: a straight wire pressed against a wall would have zero wall gradients (the linearised
+   constraint is blind to which way to bend) and stall the first QP.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .chain import BarChain
+from .scene import Scene
+
+FloatArray = NDArray[np.float64]
+
+CURVE_SAMPLES = 256
+"""Quadrature points per segment for the end point of a trial curve (midpoint rule)."""
+
+NEWTON_GRID, NEWTON_GRID_POINTS, NEWTON_STEPS = 2.0 * math.pi, 9, 40
+"""Starts ``(c₁, c₂) ∈ [−2π, 2π]²`` on a 9 × 9 grid, 40 damped Newton steps each."""
+
+CLOSURE_TOLERANCE = 1e-9
+"""A trial curve counts as reaching the next pose when it misses by at most this fraction of its length."""
+
+WALL_MARGIN = 1.05
+"""Factor on the smallest wall-feasible curvature of the free part, so the start is strictly inside the walls."""
+
+_TRIAL_CURVATURES = np.concatenate(([0.0], np.geomspace(1e-4, 1.0, 400)))
+"""Trial curvatures of the free part, as fractions of ``4π / L_free`` (two full turns); 0 first."""
+
+
+def _wrap(angle: float) -> float:
+    """``angle`` in (−π, π]."""
+    return math.remainder(angle, 2.0 * math.pi)
+
+
+def _chord_angle(a: FloatArray, b: FloatArray) -> float:
+    return math.atan2(b[1] - a[1], b[0] - a[0])
+
+
+def _pose_angles(points: list[FloatArray], angles: list[float | None]) -> list[float]:
+    """Fill the missing tangents of the poses (step 1 of the module docstring), continuous from one to the next."""
+    m = len(points)
+    filled: list[float | None] = list(angles)
+    for i in range(1, m - 1):  # interior poses: previous-to-next direction
+        if filled[i] is None:
+            filled[i] = _chord_angle(points[i - 1], points[i + 1])
+    for i, j in ((0, 1), (m - 1, m - 2)):  # the two ends: arc reflection of the neighbour's tangent
+        if m > 1 and filled[i] is None:
+            chord = _chord_angle(points[min(i, j)], points[max(i, j)])
+            filled[i] = chord if filled[j] is None else chord + _wrap(chord - filled[j])  # type: ignore[operator]
+    out = [0.0 if filled[0] is None else float(filled[0])]
+    for value in filled[1:]:  # unwrap: each tangent within π of the previous one
+        out.append(out[-1] + _wrap(float(value) - out[-1]))  # type: ignore[arg-type]
+    return out
+
+
+def _segment_curves(
+    p0: FloatArray, p1: FloatArray, a0: float, a1: float, length: float
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """All curves of the family ``θ(s) = a0 + (a1 − a0) s/ℓ + c₁ sin(πs/ℓ) + c₂ sin(2πs/ℓ)`` from ``p0`` that end at
+    ``p1``, found by Newton's method from a grid of ``(c₁, c₂)`` (all starts at once).
+
+    Returns
+    -------
+    coefficients : ndarray, shape (G, 2)
+    residual : ndarray, shape (G,)
+        End-point miss in mm of each start after the Newton steps.
+    energy : ndarray, shape (G,)
+        ``∫ θ'² ds`` of each curve (1/mm), the bending energy over ``EI/2``.
+    """
+    u = (np.arange(CURVE_SAMPLES) + 0.5) / CURVE_SAMPLES  # midpoints, s = u ℓ
+    basis = np.column_stack((np.sin(np.pi * u), np.sin(2.0 * np.pi * u)))  # (M, 2)
+    line = a0 + (a1 - a0) * u
+    grid = np.linspace(-NEWTON_GRID, NEWTON_GRID, NEWTON_GRID_POINTS)
+    c = np.stack(np.meshgrid(grid, grid, indexing="ij"), axis=-1).reshape(-1, 2)  # (G, 2)
+    target = (p1 - p0) / length
+    for _ in range(NEWTON_STEPS):
+        theta = line + c @ basis.T  # (G, M)
+        cos, sin = np.cos(theta), np.sin(theta)
+        r = np.stack((cos.mean(axis=1), sin.mean(axis=1)), axis=1) - target  # (G, 2), end-point miss / ℓ
+        jac = np.stack((-sin @ basis, cos @ basis), axis=1) / CURVE_SAMPLES  # (G, 2, 2)
+        ok = np.abs(np.linalg.det(jac)) > 1e-12
+        step = np.zeros_like(c)
+        step[ok] = np.linalg.solve(jac[ok], -r[ok][..., None])[..., 0]
+        c = c + step * np.minimum(1.0, 1.0 / np.maximum(np.abs(step).max(axis=1), 1e-300))[:, None]  # |Δc| ≤ 1
+    theta = line + c @ basis.T
+    miss = np.hypot(np.cos(theta).mean(axis=1) - target[0], np.sin(theta).mean(axis=1) - target[1]) * length
+    slope = (a1 - a0) + np.pi * c[:, :1] * np.cos(np.pi * u) + 2.0 * np.pi * c[:, 1:] * np.cos(2.0 * np.pi * u)
+    energy = np.mean(slope**2, axis=1) / length  # ∫ (dθ/ds)² ds
+    return c, miss, energy
+
+
+def _segment_angles(p0: FloatArray, p1: FloatArray, a0: float, a1: float, lengths: FloatArray) -> FloatArray:
+    """Angles of the bars between two poses: the least-energy curve of :func:`_segment_curves` at each bar's
+    midpoint (the straight chord if the wire is taut; the straight-line-in-angle curve if no curve closes)."""
+    length = float(lengths.sum())
+    u_mid = (np.cumsum(lengths) - 0.5 * lengths) / length
+    chord = np.hypot(*(p1 - p0))
+    if chord >= length * (1.0 - 1e-9):
+        return np.full(lengths.size, math.atan2(p1[1] - p0[1], p1[0] - p0[0]))
+    c, miss, energy = _segment_curves(p0, p1, a0, a1, length)
+    closed = miss <= CLOSURE_TOLERANCE * length
+    best = c[np.argmin(np.where(closed, energy, np.inf))] if closed.any() else np.zeros(2)
+    return a0 + (a1 - a0) * u_mid + best[0] * np.sin(np.pi * u_mid) + best[1] * np.sin(2.0 * np.pi * u_mid)
+
+
+def _free_part_angles(scene: Scene, start: FloatArray, angle: float, lengths: FloatArray) -> FloatArray:
+    """Angles of the bars after the last pose: the least-curved wall-feasible arc (step 3 of the docstring)."""
+    if lengths.size == 0:
+        return np.zeros(0)
+    s_mid = np.cumsum(lengths) - 0.5 * lengths  # arc length of each bar's midpoint from the pose
+    if not scene.walls:
+        return np.full(lengths.size, angle)
+    total = float(lengths.sum())
+    magnitudes = _TRIAL_CURVATURES * 4.0 * math.pi / total
+    kappa = np.concatenate((magnitudes, -magnitudes[1:]))  # (T,)
+    order = np.argsort(np.abs(kappa), kind="stable")
+    kappa = kappa[order]
+    phi = angle + kappa[:, None] * s_mid[None, :]  # (T, m)
+    nodes = start + np.cumsum(lengths[None, :, None] * np.stack((np.cos(phi), np.sin(phi)), axis=-1), axis=1)
+    feasible = np.ones(kappa.size, dtype=bool)
+    for wall in scene.walls:
+        (nx, ny), offset = wall.unit()
+        feasible &= np.all(nodes[..., 0] * nx + nodes[..., 1] * ny <= offset, axis=1)
+    if not feasible.any():
+        return phi[0]
+    first = int(np.argmax(feasible))
+    return angle + WALL_MARGIN * kappa[first] * s_mid
+
+
+def initial_angles(scene: Scene, chain: BarChain, contact_nodes: NDArray[np.int_]) -> FloatArray:
+    """The default start ``φ0`` for ``scene`` on ``chain`` (see the module docstring).
+
+    Parameters
+    ----------
+    scene : Scene
+    chain : BarChain
+        The chain the formulation built (bar lengths with a node at every contact).
+    contact_nodes : ndarray of int
+        Node index of each contact of ``scene``.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Bar angles in rad.
+    """
+    base = scene.base
+    pose_nodes = [0] + [int(k) for k, c in zip(contact_nodes, scene.contacts, strict=True) if c.point is not None]
+    points = [np.asarray(base.point, dtype=float)]
+    points += [np.asarray(c.point, dtype=float) for c in scene.contacts if c.point is not None]
+    angles: list[float | None] = [base.angle] + [c.angle for c in scene.contacts if c.point is not None]
+    if len(points) == 1 and angles[0] is None:  # a free base and no position: start along the first known angle
+        angles[0] = next((c.angle for c in scene.contacts if c.angle is not None), 0.0)
+    tangents = _pose_angles(points, angles)
+    lengths = chain.lengths
+    parts = []
+    for i in range(len(points) - 1):  # one curve per pair of consecutive poses (a handful, not nodes)
+        seg = lengths[pose_nodes[i] : pose_nodes[i + 1]]
+        parts.append(_segment_angles(points[i], points[i + 1], tangents[i], tangents[i + 1], seg))
+    last = pose_nodes[-1]
+    parts.append(_free_part_angles(scene, points[-1], tangents[-1], lengths[last:]))
+    return np.concatenate(parts)

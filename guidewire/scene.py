@@ -1,0 +1,333 @@
+"""Validated scene values: the wire, its base, the contacts and the walls (units mm, rad, MPa = N/mm²).
+
+A scene is what the paper's Tables 1, 2, 4 and 5 and Fig. 6 specify: a wire of inserted length ``L`` split into ``n``
+rigid bars (§2.1), a base at arc length ``s = 0`` (the vessel entrance, point ``A``/``O``), zero or more contacts at
+arc lengths ``s`` with a known position and/or tangent angle (§2.3.2), and zero or more straight walls (Eqs. 23–24).
+Every value is checked when it is built; a bad field raises ``ValueError``/``TypeError`` naming the field and the fix.
+Whether the contacts can be reached at all (:meth:`Scene.check_feasible`) is a separate check, run before solving,
+so that an infeasible scene such as the printed Table 5 can still be held, drawn and reported.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+SCHEMES = ("second_order", "paper")
+"""Discretisations of the bending energy; see :mod:`guidewire.formulation`."""
+
+FEASIBILITY_SLACK = 1e-9
+"""Relative slack (of the wire length between two points) allowed before two positions count as too far apart."""
+
+
+def _real(value: Any, name: str) -> float:
+    """``value`` as a finite float, or a TypeError/ValueError naming ``name``."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise TypeError(f"{name} is {value!r} of type {type(value).__name__}; expected a real number.")
+    out = float(value)
+    if not math.isfinite(out):
+        raise ValueError(f"{name} is {out}; expected a finite number.")
+    return out
+
+
+def _point(value: Any, name: str) -> tuple[float, float]:
+    """``value`` as an ``(x, y)`` tuple of finite floats."""
+    if isinstance(value, str) or not isinstance(value, Sequence | Iterable):
+        raise TypeError(f"{name} is {value!r}; expected two numbers [x, y] in mm.")
+    items = list(value)
+    if len(items) != 2:
+        raise ValueError(f"{name} has {len(items)} entries; expected two numbers [x, y] in mm.")
+    return (_real(items[0], f"{name}[0]"), _real(items[1], f"{name}[1]"))
+
+
+def _fmt(value: float) -> str:
+    """A number as the paper prints it: ``80``, ``28.5``."""
+    return f"{value:g}"
+
+
+@dataclass(frozen=True)
+class Wire:
+    """The guidewire: material, cross-section and discretisation.
+
+    Parameters
+    ----------
+    length : float
+        Inserted length ``L`` in mm (> 0).
+    bars : int
+        Number ``n`` of rigid bars (≥ 1).
+    youngs_modulus : float
+        ``E`` in MPa (N/mm²); default the paper's 3.56 GPa.
+    diameter : float
+        ``d`` in mm; default the paper's 0.78 mm. Used for the bending stress ``σ = E·(d/2)·|κ|`` and, when
+        ``moment_of_inertia`` is None, for ``I = π d⁴ / 64``.
+    moment_of_inertia : float or None
+        Second moment of area ``I`` in mm⁴; the paper's measured 1.816e-14 m⁴ is 0.01816 mm⁴.
+    max_relative_angle : float or None
+        The paper's ``b₂`` (Eq. 19): ``|Δθ| ≤ b₂`` at every joint, in rad. None (default) adds no such rows.
+    scheme : {"second_order", "paper"}
+        Discretisation of the bending energy (see :mod:`guidewire.formulation`).
+    """
+
+    length: float
+    bars: int
+    youngs_modulus: float = 3560.0
+    diameter: float = 0.78
+    moment_of_inertia: float | None = None
+    max_relative_angle: float | None = None
+    scheme: str = "second_order"
+
+    def __post_init__(self) -> None:
+        length = _real(self.length, "wire.length")
+        if length <= 0.0:
+            raise ValueError(f"wire.length is {length}; the inserted length must be positive (mm).")
+        if isinstance(self.bars, bool) or not isinstance(self.bars, int | float) or self.bars != int(self.bars):
+            raise TypeError(f"wire.bars is {self.bars!r}; expected a whole number of bars.")
+        if int(self.bars) < 1:
+            raise ValueError(f"wire.bars is {self.bars}; use at least 1 bar (the paper uses 100).")
+        for name in ("youngs_modulus", "diameter"):
+            value = _real(getattr(self, name), f"wire.{name}")
+            if value <= 0.0:
+                raise ValueError(f"wire.{name} is {value}; it must be positive.")
+            object.__setattr__(self, name, value)
+        if self.moment_of_inertia is not None:
+            inertia = _real(self.moment_of_inertia, "wire.moment_of_inertia")
+            if inertia <= 0.0:
+                raise ValueError(f"wire.moment_of_inertia is {inertia}; give a positive I in mm⁴ or omit it.")
+            object.__setattr__(self, "moment_of_inertia", inertia)
+        if self.max_relative_angle is not None:
+            b2 = _real(self.max_relative_angle, "wire.max_relative_angle")
+            if b2 <= 0.0:
+                raise ValueError(f"wire.max_relative_angle is {b2}; give a positive bound in rad or omit it.")
+            object.__setattr__(self, "max_relative_angle", b2)
+        if self.scheme not in SCHEMES:
+            raise ValueError(f"wire.scheme is {self.scheme!r}; expected one of {', '.join(map(repr, SCHEMES))}.")
+        object.__setattr__(self, "length", length)
+        object.__setattr__(self, "bars", int(self.bars))
+
+    @property
+    def second_moment(self) -> float:
+        """``I`` in mm⁴: ``moment_of_inertia`` if given, else ``π d⁴ / 64``."""
+        if self.moment_of_inertia is not None:
+            return self.moment_of_inertia
+        return math.pi * self.diameter**4 / 64.0
+
+    @property
+    def bending_stiffness(self) -> float:
+        """``EI`` in N·mm²."""
+        return self.youngs_modulus * self.second_moment
+
+
+@dataclass(frozen=True)
+class Base:
+    """The wire's start at ``s = 0`` (vessel entrance): a fixed point and, if clamped, a fixed tangent angle.
+
+    Parameters
+    ----------
+    point : (float, float)
+        Position in mm.
+    angle : float or None
+        Tangent angle in rad (counter-clockwise from +x); None leaves the wire free to rotate about ``point``.
+    name : str
+        Label used in messages and figures (the paper's ``A`` or ``O``).
+    """
+
+    point: tuple[float, float]
+    angle: float | None = None
+    name: str = "base"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "point", _point(self.point, "base.point"))
+        if self.angle is not None:
+            object.__setattr__(self, "angle", _real(self.angle, "base.angle"))
+
+
+@dataclass(frozen=True)
+class Contact:
+    """A point of the wire at arc length ``s`` with a known position and/or tangent angle (§2.3.2).
+
+    Parameters
+    ----------
+    s : float
+        Arc length from the base in mm, ``0 < s ≤ L``.
+    point : (float, float) or None
+        Position in mm (Eqs. 20–21); None leaves it free.
+    angle : float or None
+        Tangent angle in rad (Eqs. 16–18); None leaves it free.
+    name : str
+        Label used in messages and figures (the paper's ``B``, ``C``, ``P1``...).
+    """
+
+    s: float
+    point: tuple[float, float] | None = None
+    angle: float | None = None
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "s", _real(self.s, "contact.s"))
+        if self.point is not None:
+            object.__setattr__(self, "point", _point(self.point, "contact.point"))
+        if self.angle is not None:
+            object.__setattr__(self, "angle", _real(self.angle, "contact.angle"))
+        if self.point is None and self.angle is None:
+            raise ValueError(f"contact at s = {_fmt(self.s)} has neither point nor angle; give at least one.")
+
+    def label(self, index: int) -> str:
+        """The name, or ``contact <index>`` (1-based) when unnamed."""
+        return self.name or f"contact {index + 1}"
+
+
+@dataclass(frozen=True)
+class Wall:
+    """A straight wall: every node ``p`` of the wire must satisfy ``normal · p ≤ offset`` (Eqs. 23–24).
+
+    Parameters
+    ----------
+    normal : (float, float)
+        Outward normal (pointing out of the allowed region); need not be a unit vector.
+    offset : float
+        Right-hand side in the units of ``normal`` × mm.
+    """
+
+    normal: tuple[float, float]
+    offset: float
+
+    def __post_init__(self) -> None:
+        normal = _point(self.normal, "wall.normal")
+        if math.hypot(*normal) == 0.0:
+            raise ValueError("wall.normal is [0, 0]; give a nonzero outward normal, e.g. [1, 0] for x ≤ offset.")
+        object.__setattr__(self, "normal", normal)
+        object.__setattr__(self, "offset", _real(self.offset, "wall.offset"))
+
+    def unit(self) -> tuple[tuple[float, float], float]:
+        """The same half-plane with a unit normal: ``(n̂, offset / |normal|)``."""
+        norm = math.hypot(*self.normal)
+        return (self.normal[0] / norm, self.normal[1] / norm), self.offset / norm
+
+    def signed_distance(self, point: Sequence[float]) -> float:
+        """``n̂ · p − offset`` in mm: negative inside the allowed region, positive when violated."""
+        (nx, ny), off = self.unit()
+        return nx * point[0] + ny * point[1] - off
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A wire, its base, its contacts (increasing ``s``) and walls.
+
+    Parameters
+    ----------
+    wire : Wire
+    base : Base
+    contacts : sequence of Contact
+        Strictly increasing arc lengths in ``(0, L]``; wire beyond the last contact is a free end.
+    walls : sequence of Wall
+    name : str
+    """
+
+    wire: Wire
+    base: Base
+    contacts: tuple[Contact, ...] = ()
+    walls: tuple[Wall, ...] = ()
+    name: str = ""
+    notes: str = field(default="", compare=False)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.wire, Wire):
+            raise TypeError(f"scene.wire is {type(self.wire).__name__}; expected guidewire.Wire.")
+        if not isinstance(self.base, Base):
+            raise TypeError(f"scene.base is {type(self.base).__name__}; expected guidewire.Base.")
+        contacts = tuple(self.contacts)
+        walls = tuple(self.walls)
+        for i, contact in enumerate(contacts):
+            if not isinstance(contact, Contact):
+                raise TypeError(f"scene.contacts[{i}] is {type(contact).__name__}; expected guidewire.Contact.")
+            if not 0.0 < contact.s <= self.wire.length:
+                raise ValueError(
+                    f"{contact.label(i)} has s = {_fmt(contact.s)}; contacts need 0 < s ≤ wire.length = "
+                    f"{_fmt(self.wire.length)} (the base is s = 0; lengthen the wire or move the contact)."
+                )
+            if i and contact.s <= contacts[i - 1].s:
+                raise ValueError(
+                    f"{contact.label(i)} has s = {_fmt(contact.s)} after {contacts[i - 1].label(i - 1)} at "
+                    f"s = {_fmt(contacts[i - 1].s)}; list contacts by strictly increasing s."
+                )
+        for i, wall in enumerate(walls):
+            if not isinstance(wall, Wall):
+                raise TypeError(f"scene.walls[{i}] is {type(wall).__name__}; expected guidewire.Wall.")
+        if self.wire.bars < len(self.segment_ends()):
+            raise ValueError(
+                f"wire.bars is {self.wire.bars} but the contacts split the wire into {len(self.segment_ends())} "
+                "segments; use at least one bar per segment."
+            )
+        object.__setattr__(self, "contacts", contacts)
+        object.__setattr__(self, "walls", walls)
+
+    # ----------------------------------------------------------------------------------------------------------
+    def segment_ends(self) -> tuple[float, ...]:
+        """Arc lengths where segments end: every contact's ``s`` and ``L`` (once), increasing."""
+        ends = [c.s for c in self.contacts]
+        if not ends or ends[-1] < self.wire.length:
+            ends.append(self.wire.length)
+        return tuple(ends)
+
+    def infeasibility(self) -> str | None:
+        """Why no wire shape can meet this scene, or None when nothing obvious forbids it.
+
+        Checked: consecutive prescribed positions (base and contacts with a point) no farther apart than the wire
+        between them, and the base and contact points inside every wall.
+        """
+        points: list[tuple[str, float, tuple[float, float]]] = [(self.base.name or "base", 0.0, self.base.point)]
+        points += [(c.label(i), c.s, c.point) for i, c in enumerate(self.contacts) if c.point is not None]
+        for (name_a, s_a, p_a), (name_b, s_b, p_b) in zip(points, points[1:], strict=False):
+            distance = math.dist(p_a, p_b)
+            available = s_b - s_a
+            if distance > available * (1.0 + FEASIBILITY_SLACK):
+                return (
+                    f"{name_a} ({_fmt(p_a[0])}, {_fmt(p_a[1])}) at s = {_fmt(s_a)} and {name_b} "
+                    f"({_fmt(p_b[0])}, {_fmt(p_b[1])}) at s = {_fmt(s_b)} are {distance:.2f} mm apart with only "
+                    f"{available:.1f} mm of wire between them"
+                )
+        for j, wall in enumerate(self.walls):
+            for name, _, p in points:
+                if wall.signed_distance(p) > 1e-9 * max(1.0, abs(wall.offset)):
+                    return (
+                        f"{name} ({_fmt(p[0])}, {_fmt(p[1])}) lies outside wall {j + 1} "
+                        f"({_fmt(wall.normal[0])}·x + {_fmt(wall.normal[1])}·y ≤ {_fmt(wall.offset)})"
+                    )
+        return None
+
+    def check_feasible(self) -> None:
+        """Raise ``ValueError`` with the reason when :meth:`infeasibility` finds one."""
+        reason = self.infeasibility()
+        if reason is not None:
+            label = f"scene {self.name!r}" if self.name else "scene"
+            raise ValueError(f"{label} is infeasible: {reason}. Move a contact or lengthen the wire between them.")
+
+    # ----------------------------------------------------------------------------------------------------------
+    def with_bars(self, bars: int) -> Scene:
+        """The same scene with ``bars`` rigid bars."""
+        return replace(self, wire=replace(self.wire, bars=bars))
+
+    def with_scheme(self, scheme: str) -> Scene:
+        """The same scene with another energy discretisation (``"second_order"`` or ``"paper"``)."""
+        return replace(self, wire=replace(self.wire, scheme=scheme))
+
+    def with_wire(self, **changes: Any) -> Scene:
+        """The same scene with fields of the wire replaced, e.g. ``with_wire(max_relative_angle=0.1)``."""
+        return replace(self, wire=replace(self.wire, **changes))
+
+    def mirrored(self) -> Scene:
+        """The scene reflected in the x-axis: ``y → −y``, angles ``θ → −θ``, wall normals ``(a, b) → (a, −b)``."""
+
+        def flip(p: tuple[float, float] | None) -> tuple[float, float] | None:
+            return None if p is None else (p[0], -p[1])
+
+        def negate(a: float | None) -> float | None:
+            return None if a is None else -a
+
+        base = replace(self.base, point=flip(self.base.point), angle=negate(self.base.angle))
+        contacts = tuple(replace(c, point=flip(c.point), angle=negate(c.angle)) for c in self.contacts)
+        walls = tuple(Wall((w.normal[0], -w.normal[1]), w.offset) for w in self.walls)
+        name = f"{self.name} (mirrored)" if self.name else ""
+        return replace(self, base=base, contacts=contacts, walls=walls, name=name)

@@ -1,0 +1,156 @@
+"""Scene files: TOML in, TOML out (units mm, rad, MPa).
+
+The format::
+
+    name = "table1_pi_4"         # optional; default the file name
+    [wire]
+    length = 100.0               # inserted length L (mm)
+    bars = 100                   # n rigid bars
+    youngs_modulus = 3560.0      # E (MPa); optional
+    diameter = 0.78              # d (mm); optional
+    moment_of_inertia = 0.01816  # I (mm⁴); optional, default π d⁴/64
+    max_relative_angle = 0.2     # b₂ (rad); optional, omitted = no bounds
+    scheme = "paper"             # optional, default "second_order"
+
+    [base]                       # s = 0
+    point = [0.0, 0.0]
+    angle = 0.0                  # optional; omitted = free to rotate
+    name = "A"                   # optional
+
+    [[contact]]                  # zero or more, by increasing s
+    s = 100.0
+    point = [60.0, 40.0]         # optional
+    angle = 0.785398             # optional
+    name = "B"                   # optional
+
+    [[wall]]                     # zero or more: normal · p ≤ offset at every node
+    normal = [1.0, 0.0]
+    offset = 45.0
+"""
+
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+from .scene import Base, Contact, Scene, Wall, Wire
+
+_TOP_KEYS = {"name", "notes", "wire", "base", "contact", "wall"}
+_WIRE_KEYS = {"length", "bars", "youngs_modulus", "diameter", "moment_of_inertia", "max_relative_angle", "scheme"}
+_BASE_KEYS = {"point", "angle", "name"}
+_CONTACT_KEYS = {"s", "point", "angle", "name"}
+_WALL_KEYS = {"normal", "offset"}
+
+
+def _table(data: Any, where: str, allowed: set[str], required: tuple[str, ...]) -> Mapping[str, Any]:
+    """Check one TOML table: a mapping with only ``allowed`` keys and all ``required`` ones."""
+    if not isinstance(data, Mapping):
+        raise ValueError(f"[{where}] is {type(data).__name__}; expected a table.")
+    unknown = sorted(set(data) - allowed)
+    if unknown:
+        raise ValueError(f"[{where}] has unknown key(s) {', '.join(unknown)}; allowed: {', '.join(sorted(allowed))}.")
+    missing = [key for key in required if key not in data]
+    if missing:
+        raise ValueError(f"[{where}] is missing {', '.join(missing)}.")
+    return data
+
+
+def scene_from_dict(data: Mapping[str, Any], *, name: str = "") -> Scene:
+    """Build a :class:`Scene` from the parsed TOML mapping (see the module docstring for the keys)."""
+    top = _table(data, "scene file", _TOP_KEYS, ("wire", "base"))
+    wire = Wire(**_table(top["wire"], "wire", _WIRE_KEYS, ("length", "bars")))
+    base = Base(**_table(top["base"], "base", _BASE_KEYS, ("point",)))
+    contact_list = top.get("contact", [])
+    wall_list = top.get("wall", [])
+    if not isinstance(contact_list, list):
+        raise ValueError("contact must be an array of tables: write [[contact]] (double brackets).")
+    if not isinstance(wall_list, list):
+        raise ValueError("wall must be an array of tables: write [[wall]] (double brackets).")
+    contacts = tuple(
+        Contact(**_table(c, f"contact {i + 1}", _CONTACT_KEYS, ("s",))) for i, c in enumerate(contact_list)
+    )
+    walls = tuple(Wall(**_table(w, f"wall {i + 1}", _WALL_KEYS, ("normal", "offset"))) for i, w in enumerate(wall_list))
+    return Scene(
+        wire=wire, base=base, contacts=contacts, walls=walls, name=str(top.get("name", name)),
+        notes=str(top.get("notes", "")),
+    )
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read a scene file.
+
+    Parameters
+    ----------
+    path : str or Path
+        A TOML file in the format of this module's docstring.
+
+    Returns
+    -------
+    Scene
+        Named by the file's ``name`` key, else by the file name without extension.
+
+    Raises
+    ------
+    FileNotFoundError
+        When the file does not exist.
+    ValueError
+        When the file is not valid TOML or a value is out of range (the message names the field).
+    """
+    path = Path(path)
+    try:
+        with path.open("rb") as handle:
+            data = tomllib.load(handle)
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"{path} is not valid TOML: {exc}") from None
+    try:
+        return scene_from_dict(data, name=path.stem)
+    except TypeError as exc:
+        raise ValueError(f"{path}: {exc}") from None
+    except ValueError as exc:
+        raise ValueError(f"{path}: {exc}") from None
+
+
+def _toml_value(value: Any) -> str:
+    if isinstance(value, str):
+        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        return repr(value)
+    return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+
+
+def scene_to_toml(scene: Scene) -> str:
+    """The scene as TOML text that :func:`load_scene` reads back to an equal :class:`Scene`."""
+    lines: list[str] = []
+    if scene.name:
+        lines.append(f"name = {_toml_value(scene.name)}")
+    if scene.notes:
+        lines.append(f"notes = {_toml_value(scene.notes)}")
+    w = scene.wire
+    lines += ["", "[wire]", f"length = {_toml_value(w.length)}", f"bars = {w.bars}"]
+    lines += [f"youngs_modulus = {_toml_value(w.youngs_modulus)}", f"diameter = {_toml_value(w.diameter)}"]
+    if w.moment_of_inertia is not None:
+        lines.append(f"moment_of_inertia = {_toml_value(w.moment_of_inertia)}")
+    if w.max_relative_angle is not None:
+        lines.append(f"max_relative_angle = {_toml_value(w.max_relative_angle)}")
+    lines.append(f"scheme = {_toml_value(w.scheme)}")
+    lines += ["", "[base]", f"point = {_toml_value(scene.base.point)}"]
+    if scene.base.angle is not None:
+        lines.append(f"angle = {_toml_value(scene.base.angle)}")
+    lines.append(f"name = {_toml_value(scene.base.name)}")
+    for contact in scene.contacts:
+        lines += ["", "[[contact]]", f"s = {_toml_value(contact.s)}"]
+        if contact.point is not None:
+            lines.append(f"point = {_toml_value(contact.point)}")
+        if contact.angle is not None:
+            lines.append(f"angle = {_toml_value(contact.angle)}")
+        if contact.name:
+            lines.append(f"name = {_toml_value(contact.name)}")
+    for wall in scene.walls:
+        lines += ["", "[[wall]]", f"normal = {_toml_value(wall.normal)}", f"offset = {_toml_value(wall.offset)}"]
+    return "\n".join(lines) + "\n"

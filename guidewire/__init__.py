@@ -1,1 +1,34 @@
-"""The bar-chain guidewire model of Li et al. (Appl. Sci. 2019, 9, 280) on top of :mod:`sqp`."""
+"""The bar-chain guidewire model of Li et al. (Appl. Sci. 2019, 9, 280) on top of :mod:`sqp`.
+
+>>> import guidewire
+>>> sol = guidewire.solve(guidewire.paper_scenes()["table1_pi_4"])
+>>> sol.success, round(sol.energy, 2)
+(True, 4.55)
+
+Modules: :mod:`~guidewire.scene` (values), :mod:`~guidewire.scene_file` (TOML), :mod:`~guidewire.chain`
+(kinematics), :mod:`~guidewire.energy` (the two schemes), :mod:`~guidewire.formulation` (the NLP),
+:mod:`~guidewire.initial_shape` (the start), :mod:`~guidewire.solve` and :mod:`~guidewire.result`,
+:mod:`~guidewire.reference` (the exact continuum elastica), :mod:`~guidewire.paper` (the paper's scenes),
+:mod:`~guidewire.plot` (figures, needs matplotlib), :mod:`~guidewire.cli` (``python -m guidewire``).
+"""
+
+from .paper import paper_groups, paper_scenes
+from .result import Reaction, Solution
+from .scene import Base, Contact, Scene, Wall, Wire
+from .scene_file import load_scene, scene_to_toml
+from .solve import solve
+
+__all__ = [
+    "Base",
+    "Contact",
+    "Reaction",
+    "Scene",
+    "Solution",
+    "Wall",
+    "Wire",
+    "load_scene",
+    "paper_groups",
+    "paper_scenes",
+    "scene_to_toml",
+    "solve",
+]

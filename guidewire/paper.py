@@ -47,37 +47,65 @@ def paper_wire(length: float = 100.0, bars: int = 100) -> Wire:
 def table1(theta_b: float, *, name: str = "") -> Scene:
     """Table 1 / Fig. 4: two-point contact, clamp A (0, 0) at 0 and B (60, 40) at s = 100 with angle ``theta_b``."""
     return Scene(
-        paper_wire(), Base((0.0, 0.0), 0.0, name="A"), (Contact(100.0, (60.0, 40.0), theta_b, name="B"),),
+        paper_wire(),
+        Base((0.0, 0.0), 0.0, name="A"),
+        (Contact(100.0, (60.0, 40.0), theta_b, name="B"),),
         name=name or "table1",
+        notes=f"Li et al. 2019, Table 1 / Fig. 4: two-point contact, theta_B = {theta_b:.10g} rad",
     )
 
 
 def table2(theta_c: float, *, name: str = "") -> Scene:
     """Table 2 / Fig. 5: three-point contact, A (0, 0) at 0, C (30, 20) at s = 50 with ``theta_c``, B (60, 40) at 0."""
     contacts = (Contact(50.0, (30.0, 20.0), theta_c, name="C"), Contact(100.0, (60.0, 40.0), 0.0, name="B"))
-    return Scene(paper_wire(), Base((0.0, 0.0), 0.0, name="A"), contacts, name=name or "table2")
+    notes = f"Li et al. 2019, Table 2 / Fig. 5: three-point contact, theta_C = {theta_c:.10g} rad"
+    return Scene(paper_wire(), Base((0.0, 0.0), 0.0, name="A"), contacts, name=name or "table2", notes=notes)
 
 
 def fig6a() -> Scene:
     """Fig. 6a: clamp at the origin along +x, free end, oblique wall y ≥ 1.5x − 30 (Eq. 23)."""
-    return Scene(paper_wire(), Base((0.0, 0.0), 0.0, name="O"), walls=(Wall((1.5, -1.0), 30.0),), name="fig6a")
+    return Scene(
+        paper_wire(),
+        Base((0.0, 0.0), 0.0, name="O"),
+        walls=(Wall((1.5, -1.0), 30.0),),
+        name="fig6a",
+        notes="Li et al. 2019, Fig. 6a: clamp along +x, free end, oblique wall y >= 1.5x - 30 (Eq. 23)",
+    )
 
 
 def fig6b() -> Scene:
     """Fig. 6b: clamp at the origin along +x, free end, vertical wall x ≤ 45 (Eq. 24)."""
-    return Scene(paper_wire(), Base((0.0, 0.0), 0.0, name="O"), walls=(Wall((1.0, 0.0), 45.0),), name="fig6b")
+    return Scene(
+        paper_wire(),
+        Base((0.0, 0.0), 0.0, name="O"),
+        walls=(Wall((1.0, 0.0), 45.0),),
+        name="fig6b",
+        notes="Li et al. 2019, Fig. 6b: clamp along +x, free end, vertical wall x <= 45 (Eq. 24)",
+    )
 
 
 def table4() -> Scene:
     """Table 4 / Fig. 13a: position I of the experiment, l_in = 87 mm, n = 87."""
     contacts = (Contact(18.0, (9.5, 14.5), 0.820, name="P1"), Contact(71.0, (59.0, 28.3), 0.061, name="P2"))
-    return Scene(paper_wire(87.0, 87), Base((0.0, 0.0), 1.187, name="O"), contacts, name="table4")
+    return Scene(
+        paper_wire(87.0, 87),
+        Base((0.0, 0.0), 1.187, name="O"),
+        contacts,
+        name="table4",
+        notes="Li et al. 2019, Table 4 / Fig. 13a: experiment, position I, l_in = 87 mm",
+    )
 
 
 def table5() -> Scene:
     """Table 5 / Fig. 13b: position II as printed, l_in = 112.5 mm, n = 112 — infeasible (see the module doc)."""
     contacts = (Contact(91.5, (80.0, 28.5), 0.244, name="P3"), Contact(112.5, (98.0, 42.5), 0.644, name="P4"))
-    return Scene(paper_wire(112.5, 112), Base((0.0, 0.0), 1.518, name="O"), contacts, name="table5")
+    return Scene(
+        paper_wire(112.5, 112),
+        Base((0.0, 0.0), 1.518, name="O"),
+        contacts,
+        name="table5",
+        notes="Li et al. 2019, Table 5 / Fig. 13b: position II as printed -- infeasible (P3-P4)",
+    )
 
 
 def paper_groups() -> dict[str, tuple[Scene, ...]]:

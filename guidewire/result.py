@@ -1,0 +1,243 @@
+"""The solved wire: shape, angles, energy, curvature and bending stress, support reactions, solver outcome.
+
+Sign conventions (all on the wire, counter-clockwise positive, N and N·mm):
+
+- A position contact's force is its multiplier: at a KKT point ``∇E = Σ Jᵀλ`` (:func:`sqp.minimize`), and by virtual
+  work ``δE = F · δp_k``, so ``λ = F``, the force the contact exerts on the wire.
+- An angle contact's moment: in the paper scheme the multiplier of its row ``φ_k = θ*`` (the moment on bar ``k``);
+  in the second-order scheme, where the angle is in the energy, ``M = +∂E/∂θ*``. The base clamp's moment is
+  ``∂E/∂θ_A`` in both schemes (``= −EI κ(0)``: the clamp resists the wire's bending moment). A rigid rotation of
+  wire and supports leaves ``E`` unchanged, which makes these the moments that balance the forces' moments.
+- A wall pushes node ``k`` with ``−λ_k n̂`` (``n̂`` the unit outward normal, ``λ_k ≥ 0``).
+- The base point is not a variable, so its force follows from global balance: ``F_base = −Σ (contact + wall
+  forces)``. The moments are *not* balanced by construction; :meth:`Solution.moment_balance` is a real check.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .formulation import Formulation
+from .scene import Scene
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Reaction:
+    """What one support (the base or a contact) exerts on the wire.
+
+    Attributes
+    ----------
+    name : str
+    kind : {"base", "contact"}
+    s : float
+        Arc length (mm).
+    node : int
+        Node index.
+    point : ndarray, shape (2,)
+        Node position (mm).
+    force : ndarray, shape (2,) or None
+        Force in N; None when the support prescribes no position.
+    moment : float or None
+        Moment in N·mm, counter-clockwise; None when the support prescribes no angle.
+    """
+
+    name: str
+    kind: str
+    s: float
+    node: int
+    point: FloatArray
+    force: FloatArray | None
+    moment: float | None
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready values."""
+        return {
+            "name": self.name, "kind": self.kind, "s": self.s, "node": self.node, "point": self.point.tolist(),
+            "force": None if self.force is None else self.force.tolist(), "moment": self.moment,
+        }
+
+
+@dataclass(frozen=True)
+class Solution:
+    """A solved scene (see :func:`guidewire.solve`). Arrays over nodes have ``n + 1`` rows, the base first.
+
+    Attributes
+    ----------
+    scene : Scene
+        The scene as solved (``bars`` and ``scheme`` as used).
+    nodes : ndarray, shape (n + 1, 2)
+        Node positions (mm).
+    s : ndarray, shape (n + 1,)
+        Arc lengths of the nodes (mm).
+    bar_angles : ndarray, shape (n,)
+        Absolute bar angles ``φ`` (rad).
+    tangent_angles : ndarray, shape (n + 1,)
+        Wire tangent at each node (rad): a prescribed angle where there is one, else the mean of the adjoining
+        bars (the only bar at a free end). These, not the bar angles, are the wire's angles.
+    relative_angles : ndarray, shape (n + 1,)
+        Total angle jump ``Δθ`` at each joint (rad), right minus left; 0 where the node has no joint.
+    curvature : ndarray, shape (n + 1,)
+        ``κ = Δθ / w`` (1/mm) with ``w`` the joint's dual length (:mod:`guidewire.energy`); at a node with two
+        half joints (an interior angle contact, second-order scheme) the larger in magnitude.
+    bending_stress_mpa : ndarray, shape (n + 1,)
+        ``σ = E·(d/2)·|κ|`` in MPa.
+    paper_stress_measure : ndarray, shape (n + 1,)
+        The paper's relative measure ``|Δθ|`` (rad; §2.4, Eq. 22, ``σ_b = k|Δθ|``).
+    energy : float
+        Bending energy (N·mm).
+    reactions : tuple of Reaction
+        The base first, then every contact in order.
+    wall_forces : ndarray, shape (n + 1, 2)
+        Total force of the walls on each node (N).
+    success, status, message :
+        The solver's verdict (``status`` the ``sqp`` status code).
+    iterations : int
+    solve_time_s : float
+        Wall-clock time of ``sqp.minimize`` (s).
+    max_violation : float
+        Largest constraint violation at the answer, evaluated here (mm or rad).
+    result : object
+        The raw ``sqp`` result.
+    """
+
+    scene: Scene
+    nodes: FloatArray
+    s: FloatArray
+    bar_angles: FloatArray
+    tangent_angles: FloatArray
+    relative_angles: FloatArray
+    curvature: FloatArray
+    bending_stress_mpa: FloatArray
+    paper_stress_measure: FloatArray
+    energy: float
+    reactions: tuple[Reaction, ...]
+    wall_forces: FloatArray
+    success: bool
+    status: int
+    message: str
+    iterations: int
+    solve_time_s: float
+    max_violation: float
+    result: Any
+
+    @property
+    def scheme(self) -> str:
+        """The energy discretisation used."""
+        return self.scene.wire.scheme
+
+    @property
+    def n_bars(self) -> int:
+        """Number of bars."""
+        return int(self.bar_angles.size)
+
+    def moment_balance(self) -> float:
+        """Resultant moment about the base of every support force and moment (N·mm); ≈ 0 at equilibrium."""
+        base = self.nodes[0]
+        total = 0.0
+        for r in self.reactions:
+            if r.force is not None:
+                arm = r.point - base
+                total += arm[0] * r.force[1] - arm[1] * r.force[0]
+            if r.moment is not None:
+                total += r.moment
+        arms = self.nodes - base
+        return float(total + np.sum(arms[:, 0] * self.wall_forces[:, 1] - arms[:, 1] * self.wall_forces[:, 0]))
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready values (lists and numbers)."""
+        return {
+            "scene": self.scene.name, "scheme": self.scheme, "bars": self.n_bars,
+            "success": self.success, "status": self.status, "message": self.message,
+            "energy": self.energy, "iterations": self.iterations, "solve_time_s": self.solve_time_s,
+            "max_violation": self.max_violation,
+            "nodes": self.nodes.tolist(), "s": self.s.tolist(), "bar_angles": self.bar_angles.tolist(),
+            "tangent_angles": self.tangent_angles.tolist(), "relative_angles": self.relative_angles.tolist(),
+            "curvature": self.curvature.tolist(), "bending_stress_mpa": self.bending_stress_mpa.tolist(),
+            "paper_stress_measure": self.paper_stress_measure.tolist(),
+            "contact_reactions": [r.to_dict() for r in self.reactions],
+            "wall_forces": self.wall_forces.tolist(),
+        }
+
+
+def _node_geometry(form: Formulation, phi: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Tangent angles, relative angles and curvature at the nodes."""
+    n, scene, energy = form.n, form.scene, form.energy
+    tangent = np.concatenate(([phi[0]], 0.5 * (phi[:-1] + phi[1:]), [phi[-1]]))
+    if scene.base.angle is not None:
+        tangent[0] = scene.base.angle
+    for node, contact in zip(form.contact_nodes, scene.contacts, strict=True):  # contacts, not nodes
+        if contact.angle is not None:
+            tangent[node] = contact.angle
+    delta = energy.joint_angles(phi)
+    relative = np.zeros(n + 1)
+    np.add.at(relative, energy.node, delta)
+    kappa_t = delta / energy.dual_length
+    order = np.lexsort((np.abs(kappa_t), energy.node))  # per node, the largest |κ| assigned last
+    curvature = np.zeros(n + 1)
+    curvature[energy.node[order]] = kappa_t[order]
+    return tangent, relative, curvature
+
+
+def _reactions(form: Formulation, phi: FloatArray, nodes: FloatArray, multipliers: list[Any]) -> tuple[
+    tuple[Reaction, ...], FloatArray
+]:
+    """Support reactions and wall forces from the multipliers (module docstring for the signs)."""
+    scene, energy, n = form.scene, form.energy, form.n
+    contacts = scene.contacts
+    forces: dict[int, FloatArray] = {}
+    moments: dict[int, float] = {}
+    wall_forces = np.zeros((n + 1, 2))
+    for block in form.blocks:
+        lam = np.asarray(multipliers[block.index], dtype=float)
+        if block.kind == "position":
+            for i, f in zip(block.members, lam.reshape(-1, 2), strict=True):
+                forces[i] = f
+        elif block.kind == "angle":
+            moments.update(zip(block.members, lam.tolist(), strict=True))
+        elif block.kind == "wall":
+            normal, _ = scene.walls[block.members[0]].unit()
+            wall_forces[1:] -= lam[:, None] * np.asarray(normal)[None, :]
+    # ∂E/∂θ* per node from the terms that contain a prescribed tangent (∂r_t/∂θ* = row sum of D_t).
+    row_sum = energy.matrix.sum(axis=1)
+    node_moment = np.zeros(n + 1)
+    np.add.at(node_moment, energy.node, -2.0 * energy.weight * energy.joint_angles(phi) * row_sum)
+    for i, (node, contact) in enumerate(zip(form.contact_nodes, contacts, strict=True)):
+        if contact.angle is not None and i not in moments:
+            moments[i] = float(node_moment[node])
+    base_force = -(sum(forces.values(), np.zeros(2)) + wall_forces.sum(axis=0))
+    base = scene.base
+    out = [
+        Reaction(base.name, "base", 0.0, 0, nodes[0].copy(), base_force,
+                 None if base.angle is None else float(node_moment[0]))
+    ]
+    for i, (node, contact) in enumerate(zip(form.contact_nodes, contacts, strict=True)):
+        out.append(
+            Reaction(contact.label(i), "contact", contact.s, int(node), nodes[node].copy(), forces.get(i),
+                     moments.get(i))
+        )
+    return tuple(out), wall_forces
+
+
+def build_solution(form: Formulation, res: Any, solve_time_s: float) -> Solution:
+    """Assemble a :class:`Solution` from the formulation and the ``sqp`` result at ``res.x``."""
+    phi = np.asarray(res.x, dtype=float)
+    wire = form.scene.wire
+    nodes = form.chain.nodes(phi)
+    tangent, relative, curvature = _node_geometry(form, phi)
+    multipliers = list(getattr(res, "constraint_multipliers", None) or [np.zeros(b.rows) for b in form.blocks])
+    reactions, wall_forces = _reactions(form, phi, nodes, multipliers)
+    return Solution(
+        scene=form.scene, nodes=nodes, s=form.chain.arc_lengths, bar_angles=phi, tangent_angles=tangent,
+        relative_angles=relative, curvature=curvature,
+        bending_stress_mpa=wire.youngs_modulus * 0.5 * wire.diameter * np.abs(curvature),
+        paper_stress_measure=np.abs(relative), energy=float(form.fun(phi)), reactions=reactions,
+        wall_forces=wall_forces, success=bool(res.success), status=int(res.status),
+        message=str(res.message), iterations=int(res.nit), solve_time_s=float(solve_time_s),
+        max_violation=float(np.max(form.violations(phi), initial=0.0)), result=res,
+    )

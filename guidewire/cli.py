@@ -1,0 +1,134 @@
+"""Command line: ``python -m guidewire solve SCENE.toml`` and ``python -m guidewire paper --out DIR``.
+
+Exit status: 0 success; 1 the solver did not converge (the JSON is still written; its ``status``/``message`` say
+why) or, for ``paper``, some feasible scene did not converge; 2 bad input (one line on stderr, no traceback).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+from typing import NoReturn
+
+import numpy as np
+
+from .scene import SCHEMES
+from .scene_file import load_scene
+
+EXIT_OK, EXIT_NOT_CONVERGED, EXIT_BAD_INPUT = 0, 1, 2
+
+
+class BadInput(Exception):
+    """A user error reported as one line on stderr with exit status 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> NoReturn:
+        raise BadInput(f"{self.prog}: {message} (see --help)")
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value} must be at least 1")
+    return value
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of ``python -m guidewire``."""
+    parser = _Parser(prog="guidewire", description="Bar-chain guidewire deformation by SQP (Li et al. 2019).")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    run = sub.add_parser("solve", help="solve one scene file")
+    run.add_argument("scene", type=Path, help="scene file (TOML)")
+    run.add_argument("--json", type=Path, help="write the solution as JSON")
+    run.add_argument("--plot", type=Path, help="write a figure (PNG, PDF, SVG)")
+    run.add_argument("--bars", type=_positive_int, help="number of bars (default: the file's)")
+    run.add_argument("--scheme", choices=SCHEMES, help="energy discretisation (default: the file's)")
+    run.add_argument("--qp-solver", default="osqp", help="qpsolvers backend for the QP subproblems")
+    run.add_argument("--max-iter", type=_positive_int, default=500, help="SQP iteration limit")
+    run.add_argument("--tol", type=float, default=1e-8, help="SQP tolerance")
+    run.add_argument("--reference", action="store_true", help="overlay the continuum reference in --plot")
+    run.add_argument("--verbose", action="store_true", help="print the SQP iteration table")
+    paper = sub.add_parser("paper", help="reproduce every scene of the paper (figures + table)")
+    paper.add_argument("--out", type=Path, required=True, help="output directory")
+    paper.add_argument("--qp-solver", default="osqp", help="qpsolvers backend for the QP subproblems")
+    paper.add_argument("--no-figures", action="store_true", help="tables only")
+    return parser
+
+
+def _summary(sol: object) -> str:
+    from .result import Solution
+
+    assert isinstance(sol, Solution)
+    lines = [
+        f"scene {sol.scene.name!r}: {sol.n_bars} bars, scheme {sol.scheme}",
+        f"  {'converged' if sol.success else 'NOT converged'} (status {sol.status}): {sol.message}",
+        f"  energy {sol.energy:.6g} N·mm, {sol.iterations} iterations, {sol.solve_time_s:.3f} s, "
+        f"max violation {sol.max_violation:.2e}",
+        f"  max bending stress {sol.bending_stress_mpa.max():.4g} MPa "
+        f"at s = {sol.s[sol.bending_stress_mpa.argmax()]:.4g} mm",
+    ]
+    for r in sol.reactions:
+        force = "" if r.force is None else f" force ({r.force[0]:+.4g}, {r.force[1]:+.4g}) N"
+        moment = "" if r.moment is None else f" moment {r.moment:+.4g} N·mm"
+        lines.append(f"  {r.kind} {r.name} at s = {r.s:g}:{force}{moment}")
+    if sol.scene.walls:
+        magnitude = np.hypot(*sol.wall_forces.T)
+        lines.append(f"  walls push {magnitude.sum():.4g} N in total on {int((magnitude > 0).sum())} nodes")
+    return "\n".join(lines)
+
+
+def _solve(args: argparse.Namespace) -> int:
+    from .solve import solve
+
+    try:
+        scene = load_scene(args.scene)
+    except FileNotFoundError:
+        raise BadInput(f"{args.scene}: no such scene file") from None
+    except OSError as exc:
+        raise BadInput(f"{args.scene}: {exc.strerror}") from None
+    try:
+        sol = solve(scene, scheme=args.scheme, bars=args.bars, qp_solver=args.qp_solver, tol=args.tol,
+                    max_iter=args.max_iter, verbose=args.verbose)
+    except (ValueError, TypeError) as exc:
+        raise BadInput(f"{args.scene}: {exc}") from None
+    print(_summary(sol))
+    if args.json is not None:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps(sol.to_dict(), indent=1))
+    if args.plot is not None:
+        from .plot import plot_solution
+
+        reference = None
+        if args.reference:
+            from .reproduction import continuum_reference
+
+            reference, _ = continuum_reference(sol.scene)
+        args.plot.parent.mkdir(parents=True, exist_ok=True)
+        plot_solution(sol, reference=reference).savefig(args.plot, dpi=130)
+    return EXIT_OK if sol.success else EXIT_NOT_CONVERGED
+
+
+def _paper(args: argparse.Namespace) -> int:
+    from .reproduction import failures, reproduce
+
+    rows = reproduce(args.out, qp_solver=args.qp_solver, figures=not args.no_figures)
+    print(f"wrote {args.out / 'paper_results.md'} and {args.out / 'paper_results.csv'}"
+          + ("" if args.no_figures else " and figures fig4/fig5/fig6/fig13.png"))
+    return EXIT_NOT_CONVERGED if failures(rows) else EXIT_OK
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit status."""
+    try:
+        args = build_parser().parse_args(argv)
+        return _solve(args) if args.command == "solve" else _paper(args)
+    except BadInput as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT

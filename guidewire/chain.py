@@ -57,8 +57,8 @@ def place_bars(length: float, bars: int, contact_s: Sequence[float]) -> tuple[Fl
     near = np.round(ideal)
     ideal = np.where(np.abs(ideal - near) < 1e-9 * max(1.0, bars), near, ideal)
     count = np.maximum(np.floor(ideal).astype(int), 1)
-    while count.sum() > bars:  # the "at least one" floor overshot: take from the largest segments
-        count[np.argmax(count - ideal)] -= 1
+    while count.sum() > bars:  # the "at least one" floor overshot: take from the most over-served segment
+        count[np.argmax(np.where(count > 1, count - ideal, -np.inf))] -= 1
     remainder = ideal - count
     order = np.argsort(-remainder, kind="stable")
     count[order[: bars - count.sum()]] += 1

@@ -11,12 +11,15 @@ import json
 import sys
 from collections.abc import Sequence
 from pathlib import Path
-from typing import NoReturn
+from typing import TYPE_CHECKING, NoReturn
 
 import numpy as np
 
 from .scene import SCHEMES
 from .scene_file import load_scene
+
+if TYPE_CHECKING:
+    from .result import Solution
 
 EXIT_OK, EXIT_NOT_CONVERGED, EXIT_BAD_INPUT = 0, 1, 2
 
@@ -62,10 +65,8 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _summary(sol: object) -> str:
-    from .result import Solution
-
-    assert isinstance(sol, Solution)
+def _summary(sol: Solution) -> str:
+    """A few lines: outcome, energy, iterations, time, peak stress, support reactions."""
     lines = [
         f"scene {sol.scene.name!r}: {sol.n_bars} bars, scheme {sol.scheme}",
         f"  {'converged' if sol.success else 'NOT converged'} (status {sol.status}): {sol.message}",
@@ -93,6 +94,8 @@ def _solve(args: argparse.Namespace) -> int:
         raise BadInput(f"{args.scene}: no such scene file") from None
     except OSError as exc:
         raise BadInput(f"{args.scene}: {exc.strerror}") from None
+    except ValueError as exc:  # the message already names the file and the field
+        raise BadInput(str(exc)) from None
     try:
         sol = solve(scene, scheme=args.scheme, bars=args.bars, qp_solver=args.qp_solver, tol=args.tol,
                     max_iter=args.max_iter, verbose=args.verbose)
@@ -130,5 +133,5 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = build_parser().parse_args(argv)
         return _solve(args) if args.command == "solve" else _paper(args)
     except BadInput as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print("error: " + " ".join(str(exc).split()), file=sys.stderr)
         return EXIT_BAD_INPUT

@@ -1,4 +1,4 @@
-"""Bar-chain kinematics (paper §2.1, Eqs. 20–22), in absolute bar angles.
+"""Bar-chain kinematics (paper §2.1, Eqs. 16 and 20–21), in absolute bar angles.
 
 Variables. The paper's design vector is the relative angles ``Δθ`` (Eq. 18). We use the absolute bar angles
 ``φ_j = Σ_{i≤j} Δθ_i`` instead (Eq. 16: the angle of bar ``j`` from the +x axis), a linear, invertible change of

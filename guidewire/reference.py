@@ -42,7 +42,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import solve_bvp, solve_ivp
-from scipy.optimize import brentq
+from scipy.optimize import brentq, minimize
 from scipy.special import ellipeinc, ellipkinc
 
 Array = NDArray[np.float64]
@@ -281,36 +281,51 @@ def _rhs(_u: float, z: Array, gx: float, gy: float) -> Array:
 
 
 def _rhs_sens(_u: float, w: Array, gx: float, gy: float) -> Array:
-    """:func:`_rhs` plus the sensitivities of ``(X, Y, θ, κ̂)`` to ``q = (κ̂(0), gx, gy)``."""
+    """:func:`_rhs` plus the sensitivities of ``(X, Y, θ, κ̂)`` to ``(X, Y, θ, κ̂)`` at the start and ``g``."""
     c, s = math.cos(w[2]), math.sin(w[2])
-    S = w[5:].reshape(4, 3)
-    dS = np.empty((4, 3))
+    S = w[5:].reshape(4, 6)
+    out = np.empty(29)
+    out[:5] = (c, s, w[3], gx * s - gy * c, w[3] * w[3])
+    dS = out[5:].reshape(4, 6)
     dS[0] = -s * S[2]
     dS[1] = c * S[2]
     dS[2] = S[3]
     dS[3] = (gx * c + gy * s) * S[2]
-    dS[3, 1] += s
-    dS[3, 2] -= c
-    out = np.empty(17)
-    out[:5] = (c, s, w[3], gx * s - gy * c, w[3] * w[3])
-    out[5:] = dS.ravel()
+    dS[3, 4] += s
+    dS[3, 5] -= c
     return out
 
 
-def _integrate(theta0: float, kappa_hat0: float, g: Array, *, sensitivities: bool = False) -> Any:
+_SENS0 = np.hstack([np.eye(4), np.zeros((4, 2))]).ravel()
+
+
+class _Stitched:
+    """Dense output over ``u ∈ [0, 1]`` stitched from the sub-interval solutions of multiple shooting.
+
+    Each sub-solution integrates the energy from zero; ``offsets`` adds the energy of the earlier ones.
+    """
+
+    def __init__(self, breaks: Array, sols: Sequence[Any], offsets: Array) -> None:
+        self.breaks, self.sols, self.offsets = breaks, list(sols), offsets
+
+    def __call__(self, u: Array) -> Array:
+        u = np.atleast_1d(np.asarray(u, dtype=float))
+        which = np.clip(np.searchsorted(self.breaks, u, side="right") - 1, 0, len(self.sols) - 1)
+        out = np.empty((5, u.size))
+        for j, sol in enumerate(self.sols):
+            mask = which == j
+            if np.any(mask):
+                out[:, mask] = sol(u[mask])[:5]
+                out[4, mask] += self.offsets[j]
+        return out
+
+
+def _integrate(theta0: float, kappa_hat0: float, g: Array) -> Any:
     """Integrate the non-dimensional elastica over ``u ∈ [0, 1]`` with dense output."""
-    if sensitivities:
-        w0 = np.zeros(17)
-        w0[2], w0[3] = theta0, kappa_hat0
-        w0[5 + 9] = 1.0  # d κ̂(0) / d q_0
-        fun = _rhs_sens
-    else:
-        w0 = np.array([0.0, 0.0, theta0, kappa_hat0, 0.0])
-        fun = _rhs
     return solve_ivp(
-        fun,
+        _rhs,
         (0.0, 1.0),
-        w0,
+        np.array([0.0, 0.0, theta0, kappa_hat0, 0.0]),
         method="DOP853",
         args=(float(g[0]), float(g[1])),
         rtol=IVP_RTOL,
@@ -320,8 +335,17 @@ def _integrate(theta0: float, kappa_hat0: float, g: Array, *, sensitivities: boo
 
 
 def _piece(
-    s0: float, length: float, point: Array, theta0: float, kappa_hat0: float, g: Array, EI: float, sol: Any
+    s0: float,
+    length: float,
+    point: Array,
+    theta0: float,
+    kappa_hat0: float,
+    g: Array,
+    EI: float,
+    dense: Any,
+    energy_hat: float,
 ) -> ElasticaPiece:
+    """A curved piece from its non-dimensional solution (``energy_hat = ∫ κ̂² du``)."""
     return ElasticaPiece(
         s0=s0,
         length=length,
@@ -329,8 +353,8 @@ def _piece(
         theta0=float(theta0),
         kappa0=float(kappa_hat0) / length,
         force=np.asarray(g, dtype=float) * EI / length**2,
-        energy=EI / (2.0 * length) * float(sol.y[4, -1]),
-        dense=sol.sol,
+        energy=EI / (2.0 * length) * float(energy_hat),
+        dense=dense,
     )
 
 
@@ -427,50 +451,6 @@ def _force_fit(u: Array, theta: Array) -> Array:
     return g
 
 
-def _modal_guesses(theta0: float, theta1: float, X1: float, Y1: float) -> list[Array]:
-    """Coefficients ``(a, b)`` of ``θ = θ0 + Δθ u + a sin πu + b sin 2πu`` meeting the chord exactly.
-
-    A batched Newton iteration from a grid of starts; the distinct converged roots are returned.
-    """
-    xg, wg = np.polynomial.legendre.leggauss(48)
-    u = 0.5 * (xg + 1.0)
-    w = 0.5 * wg
-    s1, s2 = np.sin(np.pi * u), np.sin(2.0 * np.pi * u)
-    base = theta0 + (theta1 - theta0) * u
-    A, B = np.meshgrid(np.linspace(-3.0, 3.0, 7) * np.pi, np.linspace(-2.0, 2.0, 5) * np.pi)
-    ab = np.column_stack([A.ravel(), B.ravel()])
-    target = np.array([X1, Y1])
-    for _ in range(40):
-        th = base + ab[:, :1] * s1 + ab[:, 1:] * s2
-        c, s = np.cos(th), np.sin(th)
-        r = np.column_stack([c @ w, s @ w]) - target
-        J = np.empty((ab.shape[0], 2, 2))
-        J[:, 0, 0] = -(s * s1) @ w
-        J[:, 0, 1] = -(s * s2) @ w
-        J[:, 1, 0] = (c * s1) @ w
-        J[:, 1, 1] = (c * s2) @ w
-        det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
-        ok = np.abs(det) > 1e-12
-        safe = np.where(ok, det, 1.0)
-        step = (
-            np.column_stack(
-                [J[:, 1, 1] * r[:, 0] - J[:, 0, 1] * r[:, 1], -J[:, 1, 0] * r[:, 0] + J[:, 0, 0] * r[:, 1]]
-            )
-            / safe[:, None]
-        )
-        step[~ok] = 0.0
-        norm = np.linalg.norm(step, axis=1, keepdims=True)
-        ab = ab - step * np.minimum(1.0, 1.0 / np.maximum(norm, 1e-300))
-    th = base + ab[:, :1] * s1 + ab[:, 1:] * s2
-    r = np.column_stack([np.cos(th) @ w, np.sin(th) @ w]) - target
-    good = ab[np.linalg.norm(r, axis=1) < 1e-10]
-    distinct: list[Array] = []
-    for row in good[np.argsort(np.sum(good**2, axis=1))]:
-        if all(np.linalg.norm(row - d) > 1e-6 for d in distinct):
-            distinct.append(row)
-    return distinct
-
-
 def _hermite_guess(theta0: float, theta1: float, X1: float, Y1: float, u: Array) -> Array | None:
     """Angle profile of the cubic Hermite curve through the poses, with arc length 1, resampled by arc."""
     t = np.linspace(0.0, 1.0, 401)
@@ -507,17 +487,91 @@ def _hermite_guess(theta0: float, theta1: float, X1: float, Y1: float, u: Array)
     return np.interp(u, arc / arc[-1], th)
 
 
+#: Number of sine modes of the Ritz approximation used to generate initial guesses.
+RITZ_MODES = 8
+#: Ritz minimisers with more than this multiple of the lowest Ritz energy are not tried.
+RITZ_KEEP = 2.0
+#: Starting ``(a_1, a_2) / π`` of the Ritz minimisations: both bending senses, loops, S-shapes.
+RITZ_STARTS = tuple((a1, a2) for a1 in (-2.0, -1.0, 0.0, 1.0, 2.0) for a2 in (-1.0, 0.0, 1.0))
+
+
+def _ritz_guesses(theta0: float, theta1: float, X1: float, Y1: float) -> list[Array]:
+    """Local minimisers of the energy over ``θ = θ0 + Δθ u + Σ_k a_k sin kπu`` meeting the chord exactly.
+
+    The energy ``∫ θ'² du = Δθ² + Σ (kπ)² a_k² / 2`` is diagonal in the modal coefficients; the two chord
+    constraints are imposed with Gauss-Legendre quadrature.  Solved by SLSQP from a grid of ``(a_1, a_2)``
+    starts (both bending senses, S-shapes, loops); the distinct converged coefficient vectors are returned.
+    """
+    xg, wg = np.polynomial.legendre.leggauss(64)
+    u, w = 0.5 * (xg + 1.0), 0.5 * wg
+    k = np.arange(1, RITZ_MODES + 1)
+    modes = np.sin(np.pi * np.outer(u, k))
+    weight = 0.5 * (np.pi * k) ** 2
+    base = theta0 + (theta1 - theta0) * u
+    target = np.array([X1, Y1])
+
+    def energy(a: Array) -> tuple[float, Array]:
+        return float(weight @ (a * a)), 2.0 * weight * a
+
+    def chord(a: Array) -> Array:
+        th = base + modes @ a
+        return np.array([np.cos(th) @ w, np.sin(th) @ w]) - target
+
+    def chord_jac(a: Array) -> Array:
+        th = base + modes @ a
+        return np.vstack([-(np.sin(th) * w) @ modes, (np.cos(th) * w) @ modes])
+
+    found: list[Array] = []
+    for a1, a2 in RITZ_STARTS:
+        a0 = np.zeros(RITZ_MODES)
+        a0[:2] = np.pi * a1, np.pi * a2
+        with np.errstate(all="ignore"):
+            res = minimize(
+                energy,
+                a0,
+                jac=True,
+                method="SLSQP",
+                constraints=[{"type": "eq", "fun": chord, "jac": chord_jac}],
+                options={"maxiter": 200, "ftol": 1e-9},
+            )
+        if not (res.success and np.all(np.isfinite(res.x)) and np.max(np.abs(chord(res.x))) < 1e-7):
+            continue
+        if all(np.max(np.abs(res.x - f)) > 1e-3 for f in found):
+            found.append(res.x)
+    if not found:
+        return found
+    energies = np.array([energy(a)[0] for a in found])
+    keep = energies <= RITZ_KEEP * energies.min() + 1e-12
+    return [found[i] for i in np.argsort(energies) if keep[i]]
+
+
 def _guesses(theta0: float, theta1: float, X1: float, Y1: float, u: Array) -> list[Array]:
-    """Distinct initial angle profiles: cubic Hermite, the chord-exact modal shapes, the circular arc."""
+    """Distinct initial angle profiles: the cubic Hermite curve, the low Ritz minimisers, the circular arc."""
     profiles: list[Array] = []
     herm = _hermite_guess(theta0, theta1, X1, Y1, u)
     if herm is not None:
         profiles.append(herm)
-    s1, s2 = np.sin(np.pi * u), np.sin(2.0 * np.pi * u)
     linear = theta0 + (theta1 - theta0) * u
-    for a, b in _modal_guesses(theta0, theta1, X1, Y1):
-        profiles.append(linear + a * s1 + b * s2)
+    modes = np.sin(np.pi * np.outer(u, np.arange(1, RITZ_MODES + 1)))
+    for a in _ritz_guesses(theta0, theta1, X1, Y1):
+        profiles.append(linear + modes @ a)
     profiles.append(linear)  # the arc of constant curvature with the prescribed turning
+    return _distinct(profiles)
+
+
+def _fallback_guesses(theta0: float, theta1: float, u: Array) -> list[Array]:
+    """A wide grid of modal profiles that ignore the chord, for when every primary guess failed."""
+    linear = theta0 + (theta1 - theta0) * u
+    s1, s2, s3 = (np.sin(j * np.pi * u) for j in (1, 2, 3))
+    return [
+        linear + np.pi * (a * s1 + b * s2 + c * s3)
+        for a in (-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0)
+        for b in (-2.0, -1.0, 0.0, 1.0, 2.0)
+        for c in (-1.0, 0.0, 1.0)
+    ]
+
+
+def _distinct(profiles: Sequence[Array]) -> list[Array]:
     distinct: list[Array] = []
     for th in profiles:
         if all(np.max(np.abs(th - d)) > 1e-3 for d in distinct):
@@ -544,29 +598,78 @@ def _bvp(theta0: float, theta1: float, X1: float, Y1: float, u: Array, theta: Ar
         )
 
 
-def _shoot(theta0: float, theta1: float, X1: float, Y1: float, q: Array) -> tuple[Array, Any] | None:
-    """Newton shooting on ``q = (κ̂(0), gx, gy)``; returns the polished ``q`` and its dense solution."""
+#: Sub-intervals of multiple shooting: one per ``6 / sqrt(|g|)`` of non-dimensional length, so that the
+#: growth ``exp(sqrt(|g|) Δu)`` of the linearised problem stays below ``e^6`` on each.
+SHOOT_GROWTH = 6.0
+
+
+def _shoot(
+    theta0: float, theta1: float, X1: float, Y1: float, res: Any
+) -> tuple[float, Array, _Stitched, float] | None:
+    """Polish a :func:`solve_bvp` solution by Newton (multiple) shooting with variational equations.
+
+    Unknowns: ``κ̂`` at ``u = 0``, the full state at the interior breaks and ``g``; residuals: continuity at
+    the breaks and the end pose.  Returns ``(κ̂(0), g, dense, ∫ κ̂² du)`` or ``None`` without convergence.
+    """
+    g = np.array(res.p, dtype=float)
+    M = int(min(64, max(1, math.ceil(math.sqrt(float(np.max(np.abs(g)))) / SHOOT_GROWTH))))
+    breaks = np.linspace(0.0, 1.0, M + 1)
+    Z = res.sol(breaks[:-1]).T.copy()  # (M, 4) states at the starts of the sub-intervals
+    Z[0, :3] = 0.0, 0.0, theta0
     target = np.array([X1, Y1, theta1])
-    best = None
-    for _ in range(30):
-        sol = _integrate(theta0, q[0], q[1:], sensitivities=True)
-        if sol.status != 0:
-            return None
-        r = sol.y[[0, 1, 2], -1] - target
+    n = 4 * M - 1
+    best = math.inf
+    for _ in range(40):
+        sols, r, J = [], np.empty(n), np.zeros((n, n))
+        for j in range(M):
+            w0 = np.concatenate([Z[j], [0.0], _SENS0])
+            sol = solve_ivp(
+                _rhs_sens,
+                (breaks[j], breaks[j + 1]),
+                w0,
+                method="DOP853",
+                args=(float(g[0]), float(g[1])),
+                rtol=IVP_RTOL,
+                atol=IVP_ATOL,
+                dense_output=True,
+            )
+            if sol.status != 0 or not np.all(np.isfinite(sol.y[:, -1])):
+                return None
+            sols.append(sol)
+            end = sol.y[:4, -1]
+            sens = sol.y[5:, -1].reshape(4, 6)
+            rows = slice(4 * j, 4 * j + 4) if j < M - 1 else slice(4 * j, 4 * j + 3)
+            nrow = 4 if j < M - 1 else 3
+            if j < M - 1:
+                r[rows] = end - Z[j + 1]
+                J[rows, 1 + 4 * j : 1 + 4 * j + 4] = -np.eye(4)
+            else:
+                r[rows] = end[:3] - target
+            if j == 0:
+                J[rows, 0] = sens[:nrow, 3]
+            else:
+                J[rows, 1 + 4 * (j - 1) : 1 + 4 * j] = sens[:nrow, :4]
+            J[rows, n - 2 :] = sens[:nrow, 4:]
         nr = float(np.max(np.abs(r)))
-        if nr < SHOOT_TOL:
-            return q, sol
-        if best is not None and nr > 0.5 * best and nr < 1e-9:
-            return q, sol  # converged to the integration noise floor
-        best = nr if best is None else min(best, nr)
-        J = sol.y[5:, -1].reshape(4, 3)[:3]
+        if nr < SHOOT_TOL or (nr < 1e-9 and nr > 0.5 * best):  # converged, or at the noise floor
+            energy = np.array([s.y[4, -1] for s in sols])
+            offsets = np.concatenate([[0.0], np.cumsum(energy)[:-1]])
+            dense = _Stitched(breaks, [s.sol for s in sols], offsets)
+            return float(Z[0, 3]), g.copy(), dense, float(np.sum(energy))
+        best = min(best, nr)
         try:
             step = np.linalg.solve(J, r)
         except np.linalg.LinAlgError:
             return None
-        scale = max(1.0, float(np.max(np.abs(step))) / 10.0)
-        q = q - step / scale
+        step /= max(1.0, float(np.max(np.abs(step))) / 10.0)
+        Z[0, 3] -= step[0]
+        Z[1:] -= step[1 : n - 2].reshape(M - 1, 4)
+        g = g - step[n - 2 :]
     return None
+
+
+def _q(res: Any) -> Array:
+    return np.array([res.y[3, 0], res.p[0], res.p[1]])
 
 
 def _validate_segment(
@@ -649,26 +752,35 @@ def clamped_segment_equilibria(
         return [_assemble([_straight_piece(0.0, length, p0, theta0)], length, EI, p0, [(length, "clamp")])]
     X1, Y1 = (p1 - p0) / length
     u = np.linspace(0.0, 1.0, 41)
-    found: list[tuple[float, Array]] = []
-    for theta in _guesses(theta0, theta1, X1, Y1, u):
-        res = _bvp(theta0, theta1, X1, Y1, u, theta, _force_fit(u, theta))
+    found: list[Any] = []
+
+    def attempt(theta: Array, g: Array) -> bool:
+        res = _bvp(theta0, theta1, X1, Y1, u, theta, g)
         if not res.success:
-            continue
+            return False
         q = np.array([res.y[3, 0], res.p[0], res.p[1]])
-        if any(np.max(np.abs(q - q2) / (1.0 + np.abs(q2))) < 1e-4 for _, q2 in found):
-            continue
-        found.append((float(np.trapezoid(res.y[3] ** 2, res.x)), q))
+        if all(np.max(np.abs(q - _q(f)) / (1.0 + np.abs(_q(f)))) >= 1e-4 for f in found):
+            found.append(res)
+        return True
+
+    for theta in _guesses(theta0, theta1, X1, Y1, u):
+        attempt(theta, _force_fit(u, theta))
+    if not found:  # hard case: a wide grid of profiles, fitted and zero force guesses
+        for theta in _fallback_guesses(theta0, theta1, u):
+            if not attempt(theta, _force_fit(u, theta)):
+                attempt(theta, np.zeros(2))
     shapes: list[ContinuumShape] = []
     polished_q: list[Array] = []
-    for _, q in found:
-        polished = _shoot(theta0, theta1, X1, Y1, q)
+    for res in found:
+        polished = _shoot(theta0, theta1, X1, Y1, res)
         if polished is None:
             continue
-        qp, sol = polished
+        kappa_hat0, g, dense, energy_hat = polished
+        qp = np.array([kappa_hat0, *g])
         if any(np.max(np.abs(qp - q2) / (1.0 + np.abs(q2))) < 1e-6 for q2 in polished_q):
             continue
         polished_q.append(qp)
-        piece = _piece(0.0, length, p0, theta0, qp[0], qp[1:], EI, sol)
+        piece = _piece(0.0, length, p0, theta0, kappa_hat0, g, EI, dense, energy_hat)
         shapes.append(_assemble([piece], length, EI, p0, [(length, "clamp")]))
     if not shapes:
         raise RuntimeError(
@@ -897,7 +1009,7 @@ def clamp_wall_free_end(
             sol = _integrate(theta0, kappa0 * ell, g)
             if sol.status != 0:
                 continue
-            piece = _piece(0.0, ell, p0, theta0, kappa0 * ell, g, EI, sol)
+            piece = _piece(0.0, ell, p0, theta0, kappa0 * ell, g, EI, sol.sol, sol.y[4, -1])
             pieces = [piece]
             end, theta_end, kappa_end = piece.end_state()
             theta_exact = theta0 + sigma * amp - phi0

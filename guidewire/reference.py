@@ -34,6 +34,7 @@ positions, angles and curvatures can be evaluated at any arc length (error well 
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
@@ -55,6 +56,7 @@ __all__ = [
     "clamped_segment",
     "clamped_segment_equilibria",
     "reference_shape",
+    "reference_shapes",
     "straight_shape",
 ]
 
@@ -65,6 +67,10 @@ IVP_ATOL = 1e-12
 SHOOT_TOL = 1e-11
 #: Relative tolerance under which a chord is considered equal to the available length.
 TAUT_RTOL = 1e-12
+#: Relative energy difference under which two equilibria count as equally low (mirror twins).
+TIE_RTOL = 1e-9
+#: At most this many tied whole-wire minimisers are assembled by :func:`reference_shapes`.
+MAX_TIES = 64
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -787,10 +793,7 @@ def clamped_segment_equilibria(
             f"no clamped elastica found between {_fmt(p0)} at {theta0:g} rad and {_fmt(p1)} at "
             f"{theta1:g} rad with length {length:g} mm"
         )
-    # energy order; equal energies (mirror twins, to 1e-9) keep the guess order, Hermite first
-    lowest = min(sh.energy for sh in shapes)
-    shapes.sort(key=lambda sh: max(sh.energy, lowest * (1.0 + 1e-9)))
-    return shapes
+    return _lowest_first(shapes)  # equal energies (mirror twins) keep the guess order, Hermite first
 
 
 def clamped_segment(
@@ -991,16 +994,23 @@ def clamp_wall_free_end(
     length = _real(length, "length", positive=True)
     EI = _real(EI, "EI", positive=True)
     n, c = _wall(wall_normal, wall_offset)
+    return _wall_shapes(p0, theta0, length, n, c, EI)[0]
+
+
+def _wall_shapes(
+    p0: Array, theta0: float, length: float, n: Array, c: float, EI: float
+) -> list[ContinuumShape]:
+    """Every verified clamp-wall shape (validated input, unit normal), lowest energy first."""
     depth = c - float(n @ p0)
     alpha = math.atan2(n[1], n[0])
     phi0 = math.remainder(theta0 - alpha, 2.0 * math.pi)
     if depth < 0.0:
         raise ValueError(f"p0 = {_fmt(p0)} lies {-depth:.6g} mm beyond the wall")
     if length * math.cos(phi0) <= depth:
-        return straight_shape(p0, theta0, length, EI)
+        return [straight_shape(p0, theta0, length, EI)]
     if depth == 0.0:
         raise ValueError(f"p0 = {_fmt(p0)} lies on the wall and the wire points into it")
-    best: ContinuumShape | None = None
+    shapes: list[ContinuumShape] = []
     for sigma in (1.0, -1.0):
         for amp, lam, ell in _wall_parameters(phi0, sigma, depth, length):
             psi0, m, i_f, i_e = _pendulum_integrals(phi0, sigma, np.array([amp]))
@@ -1028,11 +1038,21 @@ def clamp_wall_free_end(
                 continue
             if _max_wall_violation(shape, n, c) > 1e-9 * scale:
                 continue
-            if best is None or shape.energy < best.energy * (1.0 - 1e-12):
-                best = shape
-    if best is None:
+            shapes.append(shape)
+    if not shapes:
         raise RuntimeError("no verified wall-contact shape found")
-    return best
+    return _lowest_first(shapes)
+
+
+def _lowest_first(shapes: list[ContinuumShape]) -> list[ContinuumShape]:
+    """Sort by energy; energies equal to the lowest within ``TIE_RTOL`` keep their order."""
+    lowest = min(sh.energy for sh in shapes)
+    return sorted(shapes, key=lambda sh: max(sh.energy, lowest * (1.0 + TIE_RTOL)))
+
+
+def _ties(shapes: list[ContinuumShape]) -> list[ContinuumShape]:
+    """The leading shapes whose energy equals the lowest within ``TIE_RTOL``."""
+    return [sh for sh in shapes if sh.energy <= shapes[0].energy * (1.0 + TIE_RTOL) + 1e-15]
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -1106,12 +1126,14 @@ def reference_shape(
     -------
     ContinuumShape
         The whole wire from ``s = 0`` to ``total_length``, with the reactions of the base and every support.
+        When the minimiser is not unique (mirror twins, see :func:`reference_shapes`) the first one.
 
     Raises
     ------
     ValueError
         For malformed input, contacts out of order or beyond ``total_length``, or an infeasible segment
-        (two contacts farther apart than the wire between them; the message says by how much).
+        (two contacts farther apart than the wire between them; the message says by how much).  Every
+        segment is checked before any is solved.
     NotImplementedError
         For a contact without position or angle, a free base angle, or walls that are active together with
         contacts or with each other (walls that the wall-free solution respects are accepted).
@@ -1120,6 +1142,29 @@ def reference_shape(
     -----
     Supported cases: no contacts and no wall (straight wire); no contacts and one active wall
     (:func:`clamp_wall_free_end`); fully clamped contacts with inactive walls.
+    """
+    return reference_shapes(base_point, base_angle, contacts, total_length, EI, walls)[0]
+
+
+def reference_shapes(
+    base_point: ArrayLike,
+    base_angle: float | None,
+    contacts: Iterable[Any],
+    total_length: float,
+    EI: float,
+    walls: Iterable[Any] = (),
+) -> list[ContinuumShape]:
+    """Every lowest-energy continuum shape of a scene (ties within ``TIE_RTOL``), the default one first.
+
+    Symmetric scenes have several minimisers of equal energy: a segment with equal end angles (Table 1 with
+    ``θ_B = 0``, both segments of Table 2 with ``θ_C = 0``) has mirror twins, and Fig. 6b can turn either
+    way.  A discrete solution should be compared with the nearest of them.  Parameters, errors and
+    supported cases as :func:`reference_shape`; at most ``MAX_TIES`` combinations are assembled.
+
+    Returns
+    -------
+    list of ContinuumShape
+        One shape per combination of tied segment minimisers; a single element when the minimiser is unique.
     """
     base_point = _point(base_point, "base_point")
     if base_angle is None:
@@ -1138,15 +1183,16 @@ def reference_shape(
             raise ValueError(f"base_point lies beyond walls[{i}] by {float(n @ base_point) - c:.6g} mm")
 
     if not clamps:
-        shape = straight_shape(base_point, base_angle, total_length, EI)
-        active = [i for i, (n, c) in enumerate(wall_list) if _max_wall_violation(shape, n, c, 3) > 0.0]
+        straight = straight_shape(base_point, base_angle, total_length, EI)
+        active = [i for i, (n, c) in enumerate(wall_list) if _max_wall_violation(straight, n, c, 3) > 0.0]
         if len(active) > 1:
             raise NotImplementedError(
                 f"the straight wire crosses {len(active)} walls ({active}); only one active wall is supported"
             )
+        shapes = [straight]
         if active:
             n, c = wall_list[active[0]]
-            shape = clamp_wall_free_end(base_point, base_angle, total_length, n, c, EI)
+            shapes = _ties(_wall_shapes(base_point, base_angle, total_length, n, c, EI))
     else:
         s_prev, p_prev, a_prev = 0.0, base_point, base_angle
         for i, (s, point, angle) in enumerate(clamps):  # every segment is checked before any is solved
@@ -1155,24 +1201,27 @@ def reference_shape(
             except ValueError as exc:
                 raise ValueError(f"segment s = {s_prev:g} .. {s:g} (to contacts[{i}]): {exc}") from exc
             s_prev, p_prev, a_prev = s, point, angle
-        pieces: list[ElasticaPiece] = []
+        options: list[list[list[ElasticaPiece]]] = []  # per segment: the pieces of each tied minimiser
         s_prev, p_prev, a_prev = 0.0, base_point, base_angle
-        for i, (s, point, angle) in enumerate(clamps):
-            try:
-                seg = clamped_segment(p_prev, a_prev, point, angle, s - s_prev, EI)
-            except ValueError as exc:
-                raise ValueError(f"segment s = {s_prev:g} .. {s:g} (to contacts[{i}]): {exc}") from exc
-            pieces.extend(_shift(piece, s_prev) for piece in seg.pieces)
+        for s, point, angle in clamps:
+            segment = _ties(clamped_segment_equilibria(p_prev, a_prev, point, angle, s - s_prev, EI))
+            options.append([[_shift(piece, s_prev) for piece in sh.pieces] for sh in segment])
             s_prev, p_prev, a_prev = s, point, angle
+        tail = []
         if total_length - s_prev > 1e-12 * total_length:
-            pieces.append(_straight_piece(s_prev, total_length - s_prev, p_prev, a_prev))
-        shape = _assemble(pieces, total_length, EI, base_point, [(s, "clamp") for s, _, _ in clamps])
+            tail = [_straight_piece(s_prev, total_length - s_prev, p_prev, a_prev)]
+        supports = [(s, "clamp") for s, _, _ in clamps]
+        shapes = [
+            _assemble([p for seg in combo for p in seg] + tail, total_length, EI, base_point, supports)
+            for combo in itertools.islice(itertools.product(*options), MAX_TIES)
+        ]
     tol = 1e-9 * max(1.0, total_length)
-    for i, (n, c) in enumerate(wall_list):
-        excess = _max_wall_violation(shape, n, c)
-        if excess > tol:
-            raise NotImplementedError(
-                f"walls[{i}] is crossed by {excess:.4g} mm by the wall-free solution: active walls combined "
-                "with contacts (or with other walls) are not supported by the continuum reference"
-            )
-    return shape
+    for shape in shapes:
+        for i, (n, c) in enumerate(wall_list):
+            excess = _max_wall_violation(shape, n, c)
+            if excess > tol:
+                raise NotImplementedError(
+                    f"walls[{i}] is crossed by {excess:.4g} mm by the wall-free solution: active walls "
+                    "combined with contacts (or with other walls) are not supported by the reference"
+                )
+    return shapes

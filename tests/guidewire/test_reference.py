@@ -18,6 +18,7 @@ from guidewire.reference import (
     clamped_segment,
     clamped_segment_equilibria,
     reference_shape,
+    reference_shapes,
 )
 
 EI = 64.65
@@ -222,6 +223,33 @@ def test_angles_are_not_wrapped():
     assert_elastica(loop)
 
 
+def test_clamped_clamped_column_buckles_at_four_pi_squared():
+    # ends pushed 0.1 mm together along the clamped direction: Euler's clamped-clamped load 4π² EI / L²,
+    # stored energy P·δ to first order, and two mirror-image minimisers (buckling up or down)
+    delta = 0.1
+    equilibria = clamped_segment_equilibria((0.0, 0.0), 0.0, (100.0 - delta, 0.0), 0.0, 100.0, EI)
+    up, down = equilibria[:2]
+    p_cr = 4 * PI**2 * EI / 100.0**2
+    assert -up.pieces[0].force[0] == pytest.approx(p_cr, rel=1e-3)
+    assert up.pieces[0].force[1] == pytest.approx(0.0, abs=1e-12)
+    assert up.energy == pytest.approx(p_cr * delta, rel=1e-3)
+    assert down.energy == pytest.approx(up.energy, rel=1e-9)
+    s = np.linspace(0.0, 100.0, 41)
+    np.testing.assert_allclose(down.position(s), up.position(s) * [1.0, -1.0], atol=1e-7)
+    assert np.abs(up.position(s)[:, 1]).max() > 1.0
+    assert_elastica(up)
+
+
+def test_nearly_taut_segment_under_high_tension():
+    # 1 mm of slack and ends tilted against the chord: internal force ~ 1000 EI / L², solved by multiple
+    # shooting; still an exact equilibrium with the ends matched
+    shape = clamped_segment((0.0, 0.0), 0.8, (99.0, 0.0), 0.8, 100.0, EI)
+    assert np.linalg.norm(shape.pieces[0].force) * 100.0**2 / EI > 500.0
+    np.testing.assert_allclose(shape.position([0.0, 100.0]), [[0.0, 0.0], [99.0, 0.0]], atol=1e-8)
+    np.testing.assert_allclose(shape.tangent_angle([0.0, 100.0]), [0.8, 0.8], atol=1e-8)
+    assert_elastica(shape, tol=2e-5)
+
+
 # ----------------------------------------------------------------------------------------------------
 # Table 2, Table 4, Table 5: whole scenes
 # ----------------------------------------------------------------------------------------------------
@@ -245,6 +273,24 @@ def test_table2_is_four_times_table1(theta_c):
     np.testing.assert_allclose(shape.position([50.0, 100.0]), [[30.0, 20.0], [60.0, 40.0]], atol=1e-8)
     np.testing.assert_allclose(shape.tangent_angle([0.0, 50.0, 100.0]), [0.0, theta_c, 0.0], atol=1e-8)
     assert_elastica(shape)
+
+
+def test_symmetric_scenes_list_every_tied_minimiser():
+    scene = [(50.0, (30.0, 20.0), 0.0), (100.0, (60.0, 40.0), 0.0)]
+    shapes = reference_shapes((0.0, 0.0), 0.0, scene, 100.0, EI)
+    assert len(shapes) == 4  # two segments with equal end angles, each with mirror twins
+    assert all(sh.energy == pytest.approx(shapes[0].energy, rel=1e-9) for sh in shapes)
+    s = np.linspace(0.0, 100.0, 51)
+    gaps = [
+        np.abs(a.position(s) - b.position(s)).max() for i, a in enumerate(shapes) for b in shapes[i + 1 :]
+    ]
+    assert min(gaps) > 1.0
+    assert reference_shape((0.0, 0.0), 0.0, scene, 100.0, EI).energy == shapes[0].energy
+    tilted = [(50.0, (30.0, 20.0), PI / 4), (100.0, (60.0, 40.0), 0.0)]
+    assert len(reference_shapes((0.0, 0.0), 0.0, tilted, 100.0, EI)) == 1
+    walls = reference_shapes((0.0, 0.0), 0.0, [], 100.0, EI, walls=[((1.0, 0.0), 45.0)])
+    assert len(walls) == 2  # Fig. 6b bends up or down
+    np.testing.assert_allclose(walls[1].position(s), walls[0].position(s) * [1.0, -1.0], atol=1e-9)
 
 
 def test_table4_position_one():

@@ -35,6 +35,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 from numpy.typing import NDArray
 
 FloatArray = NDArray[np.float64]
@@ -47,8 +48,9 @@ class EnergyTerms:
 
     Attributes
     ----------
-    matrix : ndarray, shape (m, n)
-        ``D``: row ``t`` picks the joint angle's bar angles (+1 right bar, −1 left bar).
+    matrix : scipy.sparse.csr_matrix, shape (m, n)
+        ``D``: row ``t`` picks the joint angle's bar angles (+1 right bar, −1 left bar); sparse, at most two
+        entries a row, so that energy, gradient and Hessian cost O(n).
     offset : ndarray, shape (m,)
         ``r``: the prescribed tangents entering the joint angle (rad).
     weight : ndarray, shape (m,)
@@ -59,7 +61,7 @@ class EnergyTerms:
         Node index of the joint (0 = base).
     """
 
-    matrix: FloatArray
+    matrix: sp.csr_matrix
     offset: FloatArray
     weight: FloatArray
     dual_length: FloatArray
@@ -78,20 +80,25 @@ class EnergyTerms:
         """``2 Dᵀ C (Dφ − r)``, shape (n,), N·mm/rad."""
         return 2.0 * self.matrix.T @ (self.weight * self.joint_angles(phi))
 
-    def hessian(self) -> FloatArray:
-        """``2 Dᵀ C D``, shape (n, n), constant and tridiagonal."""
-        return 2.0 * self.matrix.T @ (self.weight[:, None] * self.matrix)
+    def hessian(self) -> sp.csc_matrix:
+        """``2 Dᵀ C D``, shape (n, n), constant and tridiagonal (sparse CSC)."""
+        return sp.csc_matrix(2.0 * (self.matrix.T @ sp.diags(self.weight) @ self.matrix))
 
-    def node_rows(self, n_nodes: int) -> tuple[FloatArray, FloatArray]:
+    @property
+    def row_sum(self) -> FloatArray:
+        """``D_t 1`` per term: 0 for a joint between two bars, ±1 for a term with a prescribed tangent."""
+        return np.asarray(self.matrix.sum(axis=1)).ravel()
+
+    def node_rows(self, n_nodes: int) -> tuple[sp.csr_matrix, FloatArray]:
         """Terms summed per node: ``(D_node, r_node)`` with ``D_node φ − r_node`` the node's total angle jump.
 
-        Shapes (n_nodes, n) and (n_nodes,); nodes without a term give zero rows.
+        Shapes (n_nodes, n) (sparse CSR) and (n_nodes,); nodes without a term give zero rows.
         """
-        rows = np.zeros((n_nodes, self.matrix.shape[1]))
+        m = self.node.size
+        pick = sp.csr_matrix((np.ones(m), (self.node, np.arange(m))), shape=(n_nodes, m))
         offsets = np.zeros(n_nodes)
-        np.add.at(rows, self.node, self.matrix)
         np.add.at(offsets, self.node, self.offset)
-        return rows, offsets
+        return sp.csr_matrix(pick @ self.matrix), offsets
 
 
 def bending_terms(
@@ -142,10 +149,12 @@ def bending_terms(
     left, right, offset, dual, node = (np.concatenate(parts) for parts in zip(*blocks, strict=True))
     order = np.lexsort((np.arange(node.size), node))  # by node; at a split node the left half first
     left, right, offset, dual, node = left[order], right[order], offset[order], dual[order], node[order]
-    matrix = np.zeros((node.size, n))
     rows = np.arange(node.size)
-    matrix[rows[left >= 0], left[left >= 0]] = -1.0
-    matrix[rows[right >= 0], right[right >= 0]] = 1.0
+    data = np.concatenate((np.full(int(np.sum(left >= 0)), -1.0), np.ones(int(np.sum(right >= 0)))))
+    matrix = sp.csr_matrix(
+        (data, (np.concatenate((rows[left >= 0], rows[right >= 0])), np.concatenate((left[left >= 0], right[right >= 0])))),
+        shape=(node.size, n),
+    )
     return EnergyTerms(
         matrix=matrix, offset=offset, weight=stiffness / (2.0 * dual), dual_length=dual, node=node.astype(np.int_)
     )

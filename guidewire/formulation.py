@@ -29,6 +29,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.optimize import LinearConstraint
 
@@ -252,8 +253,9 @@ def formulate(
         add("relative_angle", tuple(joint_nodes), joint_nodes, lin)
 
     hess0 = energy.hessian()
-    if not np.any(np.abs(energy.matrix.sum(axis=1)) > 0.0):  # only differences: rigid rotation is a null direction
-        hess0 = hess0 + HESSIAN_REGULARISATION * max(float(np.max(np.diag(hess0), initial=0.0)), 1.0) * np.eye(n)
+    if not np.any(np.abs(energy.row_sum) > 0.0):  # only differences: rigid rotation is a null direction
+        hess0 = hess0 + HESSIAN_REGULARISATION * max(float(hess0.diagonal().max(initial=0.0)), 1.0) * sp.identity(
+            n, format="csc")
 
     if initial_angles is not None:
         x0 = _check_initial(initial_angles, n, "initial_angles", (n,))

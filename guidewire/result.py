@@ -202,9 +202,9 @@ def _reactions(form: Formulation, phi: FloatArray, nodes: FloatArray, multiplier
             moments.update(zip(block.members, lam.tolist(), strict=True))
         elif block.kind == "wall":
             normal, _ = scene.walls[block.members[0]].unit()
-            wall_forces[1:] -= lam[:, None] * np.asarray(normal)[None, :]
+            wall_forces[block.nodes] -= lam[:, None] * np.asarray(normal)[None, :]
     # ∂E/∂θ* per node from the terms that contain a prescribed tangent (∂r_t/∂θ* = row sum of D_t).
-    row_sum = energy.matrix.sum(axis=1)
+    row_sum = energy.row_sum
     node_moment = np.zeros(n + 1)
     np.add.at(node_moment, energy.node, -2.0 * energy.weight * energy.joint_angles(phi) * row_sum)
     for i, (node, contact) in enumerate(zip(form.contact_nodes, contacts, strict=True)):

@@ -124,6 +124,11 @@ def _initial_hessian(hess0: Any, n: int) -> Array | None:
         raise ValueError("hess0 is not symmetric; pass a symmetric matrix (e.g. (H + H.T) / 2).")
     H = 0.5 * (H + H.T)
     scale = max(1.0, float(np.max(np.abs(H))))
+    try:
+        np.linalg.cholesky(H - 1e-8 * scale * np.eye(n))  # positive definite with margin: nothing to shift
+        return H
+    except np.linalg.LinAlgError:
+        pass
     lam_min = float(np.linalg.eigvalsh(H)[0])
     if lam_min < -1e-8 * scale:
         raise ValueError(f"hess0 has a negative eigenvalue {lam_min:.3g}; it must be positive semidefinite.")

@@ -151,10 +151,8 @@ def bending_terms(
     left, right, offset, dual, node = left[order], right[order], offset[order], dual[order], node[order]
     rows = np.arange(node.size)
     data = np.concatenate((np.full(int(np.sum(left >= 0)), -1.0), np.ones(int(np.sum(right >= 0)))))
-    matrix = sp.csr_matrix(
-        (data, (np.concatenate((rows[left >= 0], rows[right >= 0])), np.concatenate((left[left >= 0], right[right >= 0])))),
-        shape=(node.size, n),
-    )
+    ij = (np.concatenate((rows[left >= 0], rows[right >= 0])), np.concatenate((left[left >= 0], right[right >= 0])))
+    matrix = sp.csr_matrix((data, ij), shape=(node.size, n))
     return EnergyTerms(
         matrix=matrix, offset=offset, weight=stiffness / (2.0 * dual), dual_length=dual, node=node.astype(np.int_)
     )

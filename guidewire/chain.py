@@ -111,6 +111,25 @@ class BarChain:
         mask = np.arange(self.n_bars)[None, :] < node_index[:, None]  # (m, n): bar j+1 ≤ node k
         return mask[:, None, :] * d[None, :, :]
 
+    def node_hessian_diagonal(self, phi: FloatArray, node_index: IntArray, weights: FloatArray) -> FloatArray:
+        """``Σ_m w_m · ∂²p_{k_m}/∂φ²``, which is diagonal: the diagonal, shape (n,).
+
+        ``∂²p_k/∂φ_j² = −l_j (cos φ_j, sin φ_j)`` for ``j ≤ k`` (and no mixed terms), so the weighted sum over nodes is
+        ``−l_j (cos φ_j W_x,j + sin φ_j W_y,j)`` with ``W_j = Σ_{k_m ≥ j} w_m`` — a suffix sum, O(n + m).
+
+        Parameters
+        ----------
+        phi : ndarray, shape (n,)
+        node_index : ndarray of int, shape (m,)
+            Nodes ``k_m`` (1..n).
+        weights : ndarray, shape (m, 2)
+            ``w_m`` (a multiplier per coordinate).
+        """
+        acc = np.zeros((self.n_bars + 1, 2))
+        np.add.at(acc, np.asarray(node_index, dtype=int), np.asarray(weights, dtype=float).reshape(-1, 2))
+        suffix = np.cumsum(acc[::-1], axis=0)[::-1][1:]  # row j-1: Σ over nodes ≥ j
+        return -self.lengths * (np.cos(phi) * suffix[:, 0] + np.sin(phi) * suffix[:, 1])
+
     def angles_from_nodes(self, nodes: FloatArray) -> FloatArray:
         """Bar angles of a polyline with ``n + 1`` points, unwrapped (continuous), shape (n,)."""
         steps = np.diff(np.asarray(nodes, dtype=float), axis=0)

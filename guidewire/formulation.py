@@ -82,21 +82,31 @@ def _position_constraint(chain: BarChain, nodes: IntArray, targets: FloatArray) 
     def jac(phi: FloatArray) -> FloatArray:
         return chain.node_jacobian(phi, nodes).reshape(2 * nodes.size, chain.n_bars)
 
-    return {"type": "eq", "fun": fun, "jac": jac}
+    def hess(phi: FloatArray, v: FloatArray) -> sp.csc_matrix:
+        return sp.diags(chain.node_hessian_diagonal(phi, nodes, np.reshape(v, (-1, 2))), format="csc")
+
+    return {"type": "eq", "fun": fun, "jac": jac, "hess": hess}
 
 
-def _wall_constraint(chain: BarChain, normal: tuple[float, float], offset: float) -> dict[str, Any]:
-    """``offset − n̂ · p_k ≥ 0`` for nodes 1..n (unit normal, mm)."""
+def _wall_constraint(
+    chain: BarChain, normal: tuple[float, float], offset: float, nodes: IntArray
+) -> dict[str, Any]:
+    """``offset − n̂ · p_k ≥ 0`` for the nodes ``k`` in ``nodes`` (unit normal, mm)."""
     nx, ny = normal
+    n_hat = np.array([nx, ny])
+    mask = np.arange(chain.n_bars)[None, :] < nodes[:, None]  # bar j+1 ≤ node k
 
     def fun(phi: FloatArray) -> FloatArray:
-        return offset - chain.nodes(phi)[1:] @ np.array([nx, ny])
+        return offset - chain.nodes(phi)[nodes] @ n_hat
 
     def jac(phi: FloatArray) -> FloatArray:
         row = chain.lengths * (-nx * np.sin(phi) + ny * np.cos(phi))  # n̂ · ∂p/∂φ_j
-        return -np.tril(np.broadcast_to(row, (chain.n_bars, chain.n_bars)))
+        return -(mask * row[None, :])
 
-    return {"type": "ineq", "fun": fun, "jac": jac}
+    def hess(phi: FloatArray, v: FloatArray) -> sp.csc_matrix:
+        return sp.diags(chain.node_hessian_diagonal(phi, nodes, -np.outer(v, n_hat)), format="csc")
+
+    return {"type": "ineq", "fun": fun, "jac": jac, "hess": hess}
 
 
 @dataclass(frozen=True)
@@ -143,6 +153,10 @@ class Formulation:
         """Gradient of the energy, shape (n,)."""
         return self.energy.gradient(phi)
 
+    def hess(self, phi: FloatArray) -> sp.csc_matrix:
+        """Exact Hessian of the energy, shape (n, n): constant and tridiagonal (sparse CSC; ``hess0``)."""
+        return self.hess0
+
     def block(self, kind: str) -> tuple[ConstraintBlock, ...]:
         """The blocks of one kind (possibly none)."""
         return tuple(b for b in self.blocks if b.kind == kind)
@@ -183,6 +197,7 @@ def formulate(
     bars: int | None = None,
     initial_angles: Any = None,
     initial_nodes: Any = None,
+    wall_nodes: Any = None,
 ) -> Formulation:
     """Turn ``scene`` into the arguments of :func:`sqp.minimize`.
 
@@ -197,6 +212,9 @@ def formulate(
         Starting bar angles (rad).
     initial_nodes : array_like, shape (n + 1, 2), optional
         Starting node positions (base first); only their directions are used.
+    wall_nodes : sequence of int arrays, optional
+        For every wall, the nodes that get a row (default: nodes 1..n). :func:`guidewire.solve` passes a working set
+        (the nodes near each wall) and adds any node found violating a wall before it returns.
 
     Returns
     -------
@@ -244,7 +262,8 @@ def formulate(
         add("angle", angle_ids, angle_nodes, LinearConstraint(rows, angle_values, angle_values))
     for j, wall in enumerate(scene.walls):
         normal, offset = wall.unit()
-        add("wall", (j,), np.arange(1, n + 1), _wall_constraint(chain, normal, offset))
+        nodes = np.arange(1, n + 1) if wall_nodes is None else np.asarray(wall_nodes[j], dtype=int)
+        add("wall", (j,), nodes, _wall_constraint(chain, normal, offset, nodes))
     if wire.max_relative_angle is not None:
         node_rows, node_offsets = energy.node_rows(n + 1)
         joint_nodes = np.unique(energy.node)

@@ -62,32 +62,62 @@ def initial_scaling(s: Array, y: Array) -> float:
     return yy / sy
 
 
-def convexify(W: Any, shift: float = 0.0) -> tuple[Any, float]:
-    """``W + delta I`` positive definite, with the smallest tried ``delta`` (an inertia correction, as IPOPT does).
+#: Largest number of variables for which a sparse exact Hessian is made dense (Cholesky test, augmented-Lagrangian
+#: term); above it the matrix stays sparse and only the identity shift is available.
+DENSE_LIMIT = 1000
 
-    Tries ``delta = 0`` first, then ``max(shift / 4, 1e-8 s)`` growing tenfold, where ``s = max(1, max|W_ii|)`` and
-    ``shift`` is the ``delta`` that worked last time. Dense matrices are tested by Cholesky; sparse ones by an LU
-    factorisation without pivoting, whose pivots have the signs of the eigenvalues (Sylvester's law of inertia).
+
+def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0) -> tuple[Any, float, float]:
+    """A positive-definite model Hessian from the exact Lagrangian Hessian ``W``, changing the QP step least.
+
+    1. ``W`` itself when it is positive definite.
+    2. ``W + rho C^T C`` (an augmented-Lagrangian term) where ``C`` holds the rows the QP keeps as equalities (the
+       equality constraints and the inequalities active at the last step). On ``C d = const`` the added term is
+       constant, so the QP step is the exact Newton–SQP step whenever ``W`` is positive definite on the null space
+       of ``C`` (second-order sufficiency), while ``W`` alone may be indefinite — a wire under compression is.
+       ``rho`` starts at a quarter of the last value that worked, or ``1e-3 max|W_ii| / max|C^T C_ii|``, and grows
+       tenfold. Used when ``W`` is dense or small (the term is dense; up to :data:`DENSE_LIMIT` variables a sparse
+       ``W`` is made dense for it).
+    3. ``W + delta I`` (an inertia correction as in IPOPT), ``delta`` from ``max(shift / 4, 1e-8 s)`` growing
+       tenfold, ``s = max(1, max|W_ii|)``.
+
+    Dense matrices are tested by Cholesky; sparse ones by an LU factorisation without pivoting, whose pivots have the
+    signs of the eigenvalues (Sylvester's law of inertia).
 
     Returns
     -------
     B : ndarray or sparse matrix
         The positive-definite matrix.
-    delta : float
-        The shift used.
+    delta, rho : float
+        The identity shift and the augmented-Lagrangian weight used (0 when not needed).
     """
+    n = W.shape[0]
+    if sp.issparse(W) and n <= DENSE_LIMIT:
+        W = W.toarray()
     is_sparse = sp.issparse(W)
+    if _positive_definite(W, is_sparse):
+        return W, 0.0, 0.0
     diag = W.diagonal() if is_sparse else np.diag(W)
     scale = max(1.0, float(np.max(np.abs(diag), initial=0.0)))
-    n = W.shape[0]
+    if C is not None and C.shape[0] and not is_sparse:
+        C = C.toarray() if sp.issparse(C) else np.asarray(C)
+        CtC = C.T @ C
+        base = float(np.max(np.diag(CtC), initial=0.0))
+        if base > 0.0:
+            r = rho / 4.0 if rho > 0.0 else 1e-3 * scale / base
+            for _ in range(12):
+                B = W + r * CtC
+                if _positive_definite(B, False):
+                    return B, 0.0, r
+                r *= 10.0
     eye = sp.identity(n, format="csc") if is_sparse else np.eye(n)
-    delta = 0.0
+    delta = max(shift / 4.0, 1e-8 * scale)
     for _ in range(40):
-        B = W + delta * eye if delta else W
+        B = W + delta * eye
         if _positive_definite(B, is_sparse):
-            return B, delta
-        delta = max(shift / 4.0, 1e-8 * scale) if delta == 0.0 else 10.0 * delta
-    return (W + delta * eye), delta
+            return B, delta, 0.0
+        delta *= 10.0
+    return B, delta, 0.0
 
 
 def _positive_definite(B: Any, is_sparse: bool) -> bool:

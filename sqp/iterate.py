@@ -10,6 +10,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from sqp.derivatives import forward_difference
+from sqp.hessian import DENSE_LIMIT
 from sqp.problem import Problem, block_jacobian
 
 Array = NDArray[np.float64]
@@ -92,6 +93,8 @@ class Evaluator:
         assert p.hess is not None
         self.nhev += 1
         H = p.hess(x.copy())
+        if sp.issparse(H) and H.shape[0] <= DENSE_LIMIT:
+            H = H.toarray()  # small: dense arithmetic is cheaper than scipy.sparse's per-call overhead
         W = H.tocsc() if sp.issparse(H) else np.array(H, dtype=float)
         start = 0
         for block in p.blocks:
@@ -101,6 +104,8 @@ class Evaluator:
                 continue
             assert block.hess is not None
             Hc = block.hess(x.copy(), v)
+            if sp.issparse(Hc) and not sp.issparse(W):
+                Hc = Hc.toarray()
             W = W - (Hc if sp.issparse(Hc) else np.asarray(Hc, dtype=float))
         if sp.issparse(W):
             return sp.csc_matrix(W)

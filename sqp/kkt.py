@@ -94,11 +94,10 @@ def kkt_residuals(
     typical = np.maximum(1.0, np.abs(x))  # a unit change of a variable is relative to its size beyond 1
     grad_l = lagrangian_gradient(g, J, lam_nl, problem.A, lam_lin, z) * typical
     scale = max(1.0, float(np.max(np.abs(g * typical), initial=0.0)))
-    bounds = Rows.from_bounds(problem.lower, problem.upper)
     comp = max(
         _complementarity(problem.nonlinear, c, lam_nl),
         _complementarity(problem.linear, r, lam_lin),
-        _complementarity(bounds, x, z),
+        _complementarity(problem.bound_rows, x, z) if problem.has_bounds else 0.0,
     )
     return KKTResiduals(
         stationarity=float(np.max(np.abs(grad_l), initial=0.0)) / scale,

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -97,6 +98,11 @@ class Problem:
     @property
     def n(self) -> int:
         return self.x0.size
+
+    @cached_property
+    def bound_rows(self) -> Rows:
+        """The bounds as rows ``lower <= x <= upper``."""
+        return Rows.from_bounds(self.lower, self.upper)
 
     @property
     def has_bounds(self) -> bool:

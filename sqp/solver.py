@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.optimize import OptimizeResult
 
@@ -164,7 +165,7 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
         return _result(problem, ev, pt, der, None, Status.NONFINITE, history, t_start)
     exact = problem.hess is not None
     scaled_start = B0 is None and not exact
-    shift = 0.0
+    shift = al_weight = 0.0
     st = _State(pt=pt, der=der, B=np.eye(problem.n) if B0 is None else B0.copy(),
                 mu=np.zeros(problem.nonlinear.lb.size))
     if options.verbose:
@@ -175,7 +176,8 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
     for nit in range(options.max_iter + 1):
         if exact:  # the exact Lagrangian Hessian at (x_k, lam_{k-1}), made positive definite
             lam_prev = st.qp.lam_nl if st.qp is not None else np.zeros(problem.nonlinear.lb.size)
-            st.B, shift = convexify(ev.lagrangian_hessian(st.pt.x, lam_prev), shift)
+            st.B, shift, al_weight = convexify(ev.lagrangian_hessian(st.pt.x, lam_prev), shift,
+                                               _equality_rows(problem, st.der.J, lam_prev), al_weight)
         # the QP subproblem (Eqs. 9–10), elastic when its linearisation is inconsistent
         qp, rho = _subproblem(problem, options, st, rho)
         if not qp.found:
@@ -295,6 +297,20 @@ def _subproblem(problem: Problem, options: Options, st: _State, rho: float) -> t
         if v0 - v1 >= 0.1 * v0:
             return qp, rho
         rho = min(MAX_ELASTIC_PENALTY, 10.0 * rho)
+
+
+def _equality_rows(problem: Problem, J: Any, lam: Array) -> Any:
+    """Rows the QP keeps as equalities: nonlinear equalities, inequalities with a nonzero multiplier, linear
+    equalities (for the augmented-Lagrangian convexification of an exact Hessian)."""
+    rows = np.union1d(problem.nonlinear.eq, np.flatnonzero(lam))
+    parts = [J[rows]] if rows.size else []
+    if problem.linear.eq.size:
+        parts.append(problem.A[problem.linear.eq])
+    if not parts:
+        return None
+    if any(sp.issparse(p) for p in parts):
+        return sp.vstack(parts, format="csr")
+    return np.vstack(parts)
 
 
 def _kkt(problem: Problem, st: _State) -> KKTResiduals:

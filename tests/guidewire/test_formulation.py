@@ -47,6 +47,25 @@ def test_derivatives_match_finite_differences(scheme):
             assert np.allclose(con["jac"](phi), _fd_jacobian(con["fun"], phi), rtol=1e-6, atol=1e-7)
 
 
+@pytest.mark.parametrize("scheme", ["second_order", "paper"])
+def test_constraint_hessians_match_finite_differences(scheme):
+    """``hess(phi, v) = Σ v_i ∇²c_i`` (scipy's convention) against differences of ``Jᵀ v``, for random ``v``."""
+    form = formulate(_rich_scene(scheme), wall_nodes=[np.array([3, 7, 20]), np.arange(1, 21)])
+    rng = np.random.default_rng(3)
+    phi = form.x0 + 0.3 * rng.standard_normal(form.n)
+    checked = 0
+    for con in form.constraints:
+        if isinstance(con, LinearConstraint):
+            continue
+        v = rng.standard_normal(np.size(con["fun"](phi)))
+        exact = con["hess"](phi, v).toarray()
+        assert np.count_nonzero(exact - np.diag(np.diag(exact))) == 0  # diagonal in absolute angles
+        assert np.allclose(exact, _fd_jacobian(lambda p, c=con, v=v: c["jac"](p).T @ v, phi), rtol=1e-6, atol=1e-6)
+        checked += 1
+    assert checked == 3  # positions and two walls
+    assert form.block("wall")[0].nodes.tolist() == [3, 7, 20]
+
+
 def test_energy_hessian_is_tridiagonal_and_the_energy_quadratic():
     form = formulate(_rich_scene("second_order"))
     hess = form.hess0.toarray()

@@ -19,17 +19,24 @@ positive) and ``EI κ²/2 + F·t`` is a first integral.
 
 Solvers
 -------
-* :func:`clamped_segment` -- both ends fully clamped (position and angle).  Solved with
-  :func:`scipy.integrate.solve_bvp` from several initial guesses, the converged branches are polished by
-  Newton shooting (variational equations, DOP853 at ``rtol = 1e-12``) and the lowest-energy one is kept;
-  :func:`clamped_segment_equilibria` returns all of them.
-* :func:`clamp_wall_free_end` -- clamp plus free end pressed against one straight wall; closed form in
-  incomplete elliptic integrals (pendulum substitution), verified by integrating the elastica.
-* :func:`reference_shape` -- a whole scene: base clamp, fully clamped contacts, a straight free tail, or
-  the one-wall free-end case.
+* :func:`clamped_segment` -- both ends fully clamped (position and angle, angles not wrapped).  Several
+  equilibria exist, so :func:`scipy.integrate.solve_bvp` is started from several guesses (the cubic Hermite
+  curve through the poses resampled by arc length, the low-energy minimisers of an 8-mode Ritz
+  approximation, the circular arc; a wide grid of profiles only if all of those fail), every converged
+  branch is polished by Newton (multiple) shooting with variational equations (DOP853, ``rtol = 1e-12``),
+  and the lowest energy wins.  :func:`clamped_segment_equilibria` returns every branch found.
+* :func:`clamp_wall_free_end` -- clamp plus free end pushed against one straight wall: closed form in
+  incomplete elliptic integrals (pendulum substitution), tangential contact with a straight tail along
+  the wall or, for a shallow wall, the free end resting on it; verified by integrating the elastica.
+* :func:`reference_shape` -- a whole scene: base clamp, fully clamped contacts (segments decouple), a
+  straight free tail, or the one-wall free-end case.  :func:`reference_shapes` lists every tied minimiser
+  of a symmetric scene (mirror twins), for comparing a discrete solution with the nearest one.
 
 Every result is a :class:`ContinuumShape` whose pieces are initial-value solutions with dense output, so
-positions, angles and curvatures can be evaluated at any arc length (error well below 1e-7 mm).
+positions, angles and curvatures can be evaluated at any arc length (error well below 1e-7 mm), with the
+support reactions (forces and moments) that balance.
+
+Paper scenes (``EI = 64.65`` N·mm²): Table 1 ``θ_B = π/4`` 4.5551 N·mm; Fig. 6b 1.0312 N·mm.
 """
 
 from __future__ import annotations
@@ -127,7 +134,9 @@ class ElasticaPiece:
     energy : float
         Bending energy of the piece (N·mm).
     dense : object or None
-        ``scipy`` ``OdeSolution`` of the non-dimensional state ``(X, Y, theta, kappa_hat, E)``.
+        Callable ``u -> (5, k)`` array (a ``scipy`` ``OdeSolution``, or several stitched together by multiple
+        shooting) of the non-dimensional state ``(X, Y, theta, kappa_hat, E)`` with ``X = (x - x0) / length``,
+        ``kappa_hat = kappa * length`` and ``E = ∫ kappa_hat² du``.
     """
 
     s0: float
@@ -538,7 +547,7 @@ def _ritz_guesses(theta0: float, theta1: float, X1: float, Y1: float) -> list[Ar
                 jac=True,
                 method="SLSQP",
                 constraints=[{"type": "eq", "fun": chord, "jac": chord_jac}],
-                options={"maxiter": 200, "ftol": 1e-9},
+                options={"maxiter": 50, "ftol": 1e-9},
             )
         if not (res.success and np.all(np.isfinite(res.x)) and np.max(np.abs(chord(res.x))) < 1e-7):
             continue
@@ -741,12 +750,17 @@ def clamped_segment_equilibria(
     Notes
     -----
     Initial guesses: the cubic Hermite curve through the poses (tangent scale chosen so that its length is
-    ``length``) resampled by arc length; the roots of ``θ = θ0 + Δθ u + a sin πu + b sin 2πu`` that meet the
-    chord exactly (a batched Newton iteration from a 7 x 5 grid of ``(a, b)``, covering both bending senses
-    and S-shapes); the circular arc ``θ = θ0 + Δθ u``.  The internal force guess is a least-squares fit of
-    the elastica equation along each profile.  Every guess goes through :func:`scipy.integrate.solve_bvp`
-    (``tol = 1e-6``); the distinct converged branches are then polished by Newton shooting to an end-pose
-    error below ``1e-11 * length``.
+    ``length``) resampled by arc length; the local minimisers of the energy over
+    ``θ = θ0 + Δθ u + Σ_{k≤8} a_k sin kπu`` under the exact chord constraints (SLSQP from 15 starts covering
+    both bending senses, loops and S-shapes; those within twice the lowest Ritz energy); the circular arc
+    ``θ = θ0 + Δθ u``.  The internal force guess is a least-squares fit of the elastica equation along each
+    profile.  Every guess goes through :func:`scipy.integrate.solve_bvp` (``tol = 1e-6``); only if none
+    converges, a grid of 105 modal profiles with fitted and zero forces is tried.  The distinct converged
+    branches are polished by Newton shooting, on ``ceil(sqrt(|g|) / 6)`` sub-intervals for a
+    non-dimensional force ``g = F L² / EI`` (multiple shooting keeps high tension well conditioned), to an
+    end-pose error below ``1e-11 * length``.  On 90 random segments (chord 0.2-0.97 of the length, end
+    angles up to 3.5 rad apart) the result was never above the lowest of ~700 brute-force BVP starts (to
+    their 1e-4 accuracy); hard cases (several loops) reach the fallback and take up to ~15 s.
 
     A symmetric scene can have two lowest-energy equilibria.  With equal end angles (Table 1 with
     ``θ_B = 0``) the problem is invariant under ``γ(s) → p0 + p1 - γ(L - s)`` (point reflection through the

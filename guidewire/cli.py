@@ -53,14 +53,14 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--plot", type=Path, help="write a figure (PNG, PDF, SVG)")
     run.add_argument("--bars", type=_positive_int, help="number of bars (default: the file's)")
     run.add_argument("--scheme", choices=SCHEMES, help="energy discretisation (default: the file's)")
-    run.add_argument("--qp-solver", default="osqp", help="qpsolvers backend for the QP subproblems")
+    run.add_argument("--qp-solver", default=None, help="qpsolvers backend (default: daqp to 300 bars, else clarabel)")
     run.add_argument("--max-iter", type=_positive_int, default=500, help="SQP iteration limit")
     run.add_argument("--tol", type=float, default=1e-8, help="SQP tolerance")
     run.add_argument("--reference", action="store_true", help="overlay the continuum reference in --plot")
     run.add_argument("--verbose", action="store_true", help="print the SQP iteration table")
     paper = sub.add_parser("paper", help="reproduce every scene of the paper (figures + table)")
     paper.add_argument("--out", type=Path, required=True, help="output directory")
-    paper.add_argument("--qp-solver", default="osqp", help="qpsolvers backend for the QP subproblems")
+    paper.add_argument("--qp-solver", default=None, help="qpsolvers backend (default by size)")
     paper.add_argument("--no-figures", action="store_true", help="tables only")
     return parser
 

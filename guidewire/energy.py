@@ -33,6 +33,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
@@ -67,9 +68,15 @@ class EnergyTerms:
     dual_length: FloatArray
     node: IntArray
 
+    @cached_property
+    def _coo(self) -> tuple[IntArray, IntArray, FloatArray]:
+        m = self.matrix.tocoo()
+        return m.row.astype(np.intp), m.col.astype(np.intp), m.data
+
     def joint_angles(self, phi: FloatArray) -> FloatArray:
         """``Δ_t = D_t φ − r_t`` in rad, shape (m,)."""
-        return self.matrix @ phi - self.offset
+        rows, cols, data = self._coo
+        return np.bincount(rows, data * phi[cols], minlength=self.offset.size) - self.offset
 
     def value(self, phi: FloatArray) -> float:
         """Bending energy in N·mm."""
@@ -78,7 +85,9 @@ class EnergyTerms:
 
     def gradient(self, phi: FloatArray) -> FloatArray:
         """``2 Dᵀ C (Dφ − r)``, shape (n,), N·mm/rad."""
-        return 2.0 * self.matrix.T @ (self.weight * self.joint_angles(phi))
+        rows, cols, data = self._coo
+        return np.bincount(cols, 2.0 * data * (self.weight * self.joint_angles(phi))[rows],
+                           minlength=self.matrix.shape[1])
 
     def hessian(self) -> sp.csc_matrix:
         """``2 Dᵀ C D``, shape (n, n), constant and tridiagonal (sparse CSC)."""

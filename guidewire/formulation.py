@@ -26,6 +26,7 @@ No variable bounds are used. Multiplier signs follow :func:`sqp.minimize`: ``∇
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -73,6 +74,15 @@ class ConstraintBlock:
         return int(self.nodes.size)
 
 
+DENSE_BARS = 300
+"""Up to this many bars Hessians are returned as dense arrays (cheaper than scipy.sparse's per-call overhead)."""
+
+
+def _diagonal(d: FloatArray) -> Any:
+    """A diagonal matrix: dense for small chains, sparse CSC for long ones."""
+    return np.diag(d) if d.size <= DENSE_BARS else sp.diags(d, format="csc")
+
+
 def _position_constraint(chain: BarChain, nodes: IntArray, targets: FloatArray) -> dict[str, Any]:
     """``p_k(φ) − P`` for the contact nodes, rows (x₁, y₁, x₂, y₂, ...)."""
 
@@ -82,8 +92,8 @@ def _position_constraint(chain: BarChain, nodes: IntArray, targets: FloatArray) 
     def jac(phi: FloatArray) -> FloatArray:
         return chain.node_jacobian(phi, nodes).reshape(2 * nodes.size, chain.n_bars)
 
-    def hess(phi: FloatArray, v: FloatArray) -> sp.csc_matrix:
-        return sp.diags(chain.node_hessian_diagonal(phi, nodes, np.reshape(v, (-1, 2))), format="csc")
+    def hess(phi: FloatArray, v: FloatArray) -> Any:
+        return _diagonal(chain.node_hessian_diagonal(phi, nodes, np.reshape(v, (-1, 2))))
 
     return {"type": "eq", "fun": fun, "jac": jac, "hess": hess}
 
@@ -103,8 +113,8 @@ def _wall_constraint(
         row = chain.lengths * (-nx * np.sin(phi) + ny * np.cos(phi))  # n̂ · ∂p/∂φ_j
         return -(mask * row[None, :])
 
-    def hess(phi: FloatArray, v: FloatArray) -> sp.csc_matrix:
-        return sp.diags(chain.node_hessian_diagonal(phi, nodes, -np.outer(v, n_hat)), format="csc")
+    def hess(phi: FloatArray, v: FloatArray) -> Any:
+        return _diagonal(chain.node_hessian_diagonal(phi, nodes, -np.outer(v, n_hat)))
 
     return {"type": "ineq", "fun": fun, "jac": jac, "hess": hess}
 
@@ -153,9 +163,14 @@ class Formulation:
         """Gradient of the energy, shape (n,)."""
         return self.energy.gradient(phi)
 
-    def hess(self, phi: FloatArray) -> sp.csc_matrix:
-        """Exact Hessian of the energy, shape (n, n): constant and tridiagonal (sparse CSC; ``hess0``)."""
-        return self.hess0
+    def hess(self, phi: FloatArray) -> Any:
+        """Exact Hessian of the energy, shape (n, n): constant and tridiagonal (``hess0``; dense up to
+        :data:`DENSE_BARS` bars, sparse CSC above)."""
+        return self._dense_hess0 if self.n <= DENSE_BARS else self.hess0
+
+    @cached_property
+    def _dense_hess0(self) -> FloatArray:
+        return self.hess0.toarray()
 
     def block(self, kind: str) -> tuple[ConstraintBlock, ...]:
         """The blocks of one kind (possibly none)."""
@@ -179,6 +194,23 @@ class Formulation:
                 c = np.asarray(con["fun"](phi), dtype=float)
                 parts.append(np.abs(c) if con["type"] == "eq" else np.maximum(-c, 0.0))
         return np.concatenate(parts)
+
+
+WALL_WORKING_DISTANCE = 0.1
+"""Nodes of the start closer to a wall than this fraction of the wire length get a wall row in the working set."""
+
+
+def near_wall_nodes(nodes: FloatArray, normal: tuple[float, float], offset: float, length: float) -> IntArray:
+    """Nodes 1..n within ``WALL_WORKING_DISTANCE · L`` of the wall ``n̂·p ≤ offset`` (at least the closest one)."""
+    gap = offset - nodes[1:] @ np.asarray(normal)
+    near = np.flatnonzero(gap <= WALL_WORKING_DISTANCE * length) + 1
+    return near if near.size else np.array([int(np.argmin(gap)) + 1])
+
+
+def wall_gaps(chain: BarChain, phi: FloatArray, walls: Any) -> FloatArray:
+    """``offset − n̂·p_k`` for every wall and node 1..n, shape (walls, n) (negative: violated)."""
+    pts = chain.nodes(phi)[1:]
+    return np.array([w.unit()[1] - pts @ np.asarray(w.unit()[0]) for w in walls]).reshape(len(walls), -1)
 
 
 def _check_initial(x0: Any, n: int, name: str, shape: tuple[int, ...]) -> FloatArray:
@@ -212,9 +244,11 @@ def formulate(
         Starting bar angles (rad).
     initial_nodes : array_like, shape (n + 1, 2), optional
         Starting node positions (base first); only their directions are used.
-    wall_nodes : sequence of int arrays, optional
-        For every wall, the nodes that get a row (default: nodes 1..n). :func:`guidewire.solve` passes a working set
-        (the nodes near each wall) and adds any node found violating a wall before it returns.
+    wall_nodes : "near" or sequence of int arrays, optional
+        For every wall, the nodes that get a row (default: nodes 1..n). ``"near"``: the nodes of the start within
+        :data:`WALL_WORKING_DISTANCE` ``× L`` of the wall (the paper's remark that only a few points of a line contact
+        need constraining). :func:`guidewire.solve` uses ``"near"`` and adds any node found violating a wall, then
+        solves again from the answer, so no node of the returned shape violates a wall.
 
     Returns
     -------
@@ -244,6 +278,13 @@ def formulate(
     angle_values = np.array([contacts[i].angle for i in angle_ids], dtype=float)
     energy = bending_terms(lengths, wire.bending_stiffness, wire.scheme, scene.base.angle, angle_nodes, angle_values)
 
+    if initial_angles is not None:
+        x0 = _check_initial(initial_angles, n, "initial_angles", (n,))
+    elif initial_nodes is not None:
+        x0 = chain.angles_from_nodes(_check_initial(initial_nodes, n, "initial_nodes", (n + 1, 2)))
+    else:
+        x0 = default_initial_angles(scene, chain, contact_nodes)
+
     blocks: list[ConstraintBlock] = []
     constraints: list[Any] = []
 
@@ -260,9 +301,15 @@ def formulate(
         rows = np.zeros((len(angle_ids), n))
         rows[np.arange(len(angle_ids)), angle_nodes - 1] = 1.0
         add("angle", angle_ids, angle_nodes, LinearConstraint(rows, angle_values, angle_values))
+    start_nodes = chain.nodes(x0)
     for j, wall in enumerate(scene.walls):
         normal, offset = wall.unit()
-        nodes = np.arange(1, n + 1) if wall_nodes is None else np.asarray(wall_nodes[j], dtype=int)
+        if wall_nodes is None:
+            nodes = np.arange(1, n + 1)
+        elif isinstance(wall_nodes, str) and wall_nodes == "near":
+            nodes = near_wall_nodes(start_nodes, normal, offset, wire.length)
+        else:
+            nodes = np.unique(np.asarray(wall_nodes[j], dtype=int))
         add("wall", (j,), nodes, _wall_constraint(chain, normal, offset, nodes))
     if wire.max_relative_angle is not None:
         node_rows, node_offsets = energy.node_rows(n + 1)
@@ -276,12 +323,6 @@ def formulate(
         hess0 = hess0 + HESSIAN_REGULARISATION * max(float(hess0.diagonal().max(initial=0.0)), 1.0) * sp.identity(
             n, format="csc")
 
-    if initial_angles is not None:
-        x0 = _check_initial(initial_angles, n, "initial_angles", (n,))
-    elif initial_nodes is not None:
-        x0 = chain.angles_from_nodes(_check_initial(initial_nodes, n, "initial_nodes", (n + 1, 2)))
-    else:
-        x0 = default_initial_angles(scene, chain, contact_nodes)
     return Formulation(
         scene=scene, scheme=wire.scheme, chain=chain, contact_nodes=contact_nodes, energy=energy,
         blocks=tuple(blocks), constraints=tuple(constraints), hess0=hess0, x0=x0,

@@ -117,7 +117,7 @@ def write_tables(rows: Sequence[Row], out: Path) -> tuple[Path, Path]:
     return csv_path, md_path
 
 
-def reproduce(out: str | Path, *, qp_solver: str = "osqp", figures: bool = True, log: Any = print) -> list[Row]:
+def reproduce(out: str | Path, *, qp_solver: str | None = None, figures: bool = True, log: Any = print) -> list[Row]:
     """Solve every paper scene with both schemes; write figures and tables into ``out``.
 
     Returns

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .formulation import Formulation
+from .formulation import Formulation, wall_gaps
 from .scene import Scene
 
 FloatArray = NDArray[np.float64]
@@ -224,6 +224,14 @@ def _reactions(form: Formulation, phi: FloatArray, nodes: FloatArray, multiplier
     return tuple(out), wall_forces
 
 
+def _max_violation(form: Formulation, phi: FloatArray) -> float:
+    """Largest violation of any constraint row, and of every wall at every node (not only the working set)."""
+    worst = float(np.max(form.violations(phi), initial=0.0))
+    if form.scene.walls:
+        worst = max(worst, float(np.max(-wall_gaps(form.chain, phi, form.scene.walls), initial=0.0)))
+    return worst
+
+
 def build_solution(form: Formulation, res: Any, solve_time_s: float) -> Solution:
     """Assemble a :class:`Solution` from the formulation and the ``sqp`` result at ``res.x``."""
     phi = np.asarray(res.x, dtype=float)
@@ -239,5 +247,5 @@ def build_solution(form: Formulation, res: Any, solve_time_s: float) -> Solution
         paper_stress_measure=np.abs(relative), energy=float(form.fun(phi)), reactions=reactions,
         wall_forces=wall_forces, success=bool(res.success), status=int(res.status),
         message=str(res.message), iterations=int(res.nit), solve_time_s=float(solve_time_s),
-        max_violation=float(np.max(form.violations(phi), initial=0.0)), result=res,
+        max_violation=_max_violation(form, phi), result=res,
     )

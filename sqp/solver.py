@@ -16,7 +16,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.optimize import OptimizeResult
 
-from sqp.hessian import convexify, damped_bfgs_update, initial_scaling
+from sqp.hessian import DENSE_LIMIT, convexify, damped_bfgs_update, initial_scaling
 from sqp.iterate import Derivatives, Evaluator, Point
 from sqp.kkt import KKTResiduals, kkt_residuals, lagrangian_gradient, max_violation
 from sqp.merit import ARMIJO, descent_penalty, directional_derivative, merit, next_step_length, update_penalty
@@ -113,9 +113,18 @@ def minimize(
     return run(problem, options, B0)
 
 
-def _initial_hessian(hess0: Any, n: int) -> Array | None:
+def _initial_hessian(hess0: Any, n: int) -> Any:
+    """Validate ``hess0``. A large sparse one stays sparse (it is only the metric of an exact-Hessian solve then);
+    a dense or small one is checked for positive definiteness and shifted if merely semidefinite."""
     if hess0 is None:
         return None
+    if sp.issparse(hess0) and n > DENSE_LIMIT:
+        H = sp.csc_matrix(hess0, dtype=float)
+        if H.shape != (n, n):
+            raise ValueError(f"hess0 has shape {H.shape}; expected ({n}, {n}).")
+        if not np.all(np.isfinite(H.data)) or abs(H - H.T).max() > 1e-10 * max(1.0, abs(H).max()):
+            raise ValueError("hess0 must be finite and symmetric.")
+        return H
     H = np.asarray(hess0.toarray() if hasattr(hess0, "toarray") else hess0, dtype=float)
     if H.shape != (n, n):
         raise ValueError(f"hess0 has shape {H.shape}; expected ({n}, {n}).")
@@ -166,7 +175,7 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
     exact = problem.hess is not None
     scaled_start = B0 is None and not exact
     shift = al_weight = 0.0
-    st = _State(pt=pt, der=der, B=np.eye(problem.n) if B0 is None else B0.copy(),
+    st = _State(pt=pt, der=der, B=np.eye(problem.n) if B0 is None or sp.issparse(B0) else B0.copy(),
                 mu=np.zeros(problem.nonlinear.lb.size))
     if options.verbose:
         print(HEADER)

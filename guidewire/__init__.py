@@ -16,7 +16,7 @@ from .paper import paper_groups, paper_scenes
 from .result import Reaction, Solution
 from .scene import Base, Contact, Scene, Wall, Wire
 from .scene_file import load_scene, scene_to_toml
-from .solve import solve
+from .solve import solve, solve_sequence
 
 __all__ = [
     "Base",
@@ -31,4 +31,5 @@ __all__ = [
     "paper_scenes",
     "scene_to_toml",
     "solve",
+    "solve_sequence",
 ]

@@ -196,7 +196,7 @@ class Formulation:
         return np.concatenate(parts)
 
 
-WALL_WORKING_DISTANCE = 0.1
+WALL_WORKING_DISTANCE = 0.25
 """Nodes of the start closer to a wall than this fraction of the wire length get a wall row in the working set."""
 
 

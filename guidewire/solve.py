@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from collections.abc import Iterable
 from typing import Any
 
 import numpy as np
@@ -30,6 +31,7 @@ def solve(
     initial_angles: Any = None,
     initial_nodes: Any = None,
     hessian: str = "exact",
+    multipliers0: Any = None,
     qp_solver: str | None = None,
     qp_options: dict[str, Any] | None = None,
     tol: float = 1e-8,
@@ -53,6 +55,9 @@ def solve(
         ``"exact"`` (default): the exact Lagrangian Hessian of the bar chain (constant tridiagonal energy Hessian
         plus diagonal constraint terms), a Newton–SQP method converging in 3–6 iterations on the paper scenes.
         ``"bfgs"``: the paper's damped BFGS (Eq. 6), started from the exact energy Hessian (``hess0``).
+    multipliers0 : sequence of arrays, optional
+        Starting multipliers (``solution.result.constraint_multipliers`` of a neighbouring solve with the same
+        constraint blocks), used when the blocks match; see :func:`solve_sequence`.
     qp_solver : str, optional
         qpsolvers backend; default :func:`default_qp_solver` (DAQP up to :data:`DENSE_BARS` bars, else Clarabel).
     qp_options, tol, max_iter, verbose
@@ -84,6 +89,8 @@ def solve(
         args = form.arguments()
         if hessian == "exact":
             args["hess"] = form.hess
+        if multipliers0 is not None and [np.size(m) for m in multipliers0] == [b.rows for b in form.blocks]:
+            args["multipliers0"] = multipliers0
         res = sqp.minimize(**args, qp_solver=backend, qp_options=qp_options, tol=tol, max_iter=max_iter,
                            verbose=verbose)
         if not form.scene.walls:
@@ -98,3 +105,44 @@ def solve(
                       for b, v in zip(form.block("wall"), violated, strict=True)]
         form = formulate(form.scene, initial_angles=res.x, wall_nodes=wall_nodes)
     return build_solution(form, res, time.perf_counter() - start)
+
+
+def solve_sequence(scenes: Iterable[Scene], **options: Any) -> list[Solution]:
+    """Quasi-static advancement (paper §2.1): solve each scene starting from the previous answer.
+
+    Each solve after the first starts from the previous shape (bar angles re-sampled by relative arc length when
+    the bar layout changes) and, when the constraint blocks are the same, from the previous multipliers, so a small
+    change of the scene (a contact moving along a wall, the inserted length growing) costs one or two Newton steps.
+
+    Parameters
+    ----------
+    scenes : iterable of Scene
+        The steps, in order.
+    **options
+        Passed to :func:`solve` (``scheme``, ``bars``, ``hessian``, ``qp_solver``, ``tol``, ...); ``initial_angles``
+        and ``multipliers0`` of the first step only.
+
+    Returns
+    -------
+    list of Solution
+        One per scene; a failed step is returned as data and the next step starts from its shape anyway.
+    """
+    out: list[Solution] = []
+    for scene in scenes:
+        if out:
+            prev = out[-1]
+            options["initial_angles"] = _resampled_angles(prev, scene, options.get("bars"))
+            options["multipliers0"] = prev.result.constraint_multipliers
+        out.append(solve(scene, **options))
+    return out
+
+
+def _resampled_angles(prev: Solution, scene: Scene, bars: int | None) -> Any:
+    """The previous bar angles at the new bars' midpoints, by relative arc length."""
+    n_new = bars if bars is not None else scene.wire.bars
+    old = prev.bar_angles
+    if old.size == n_new and np.isclose(prev.s[-1], scene.wire.length):
+        return old
+    s_old = 0.5 * (prev.s[1:] + prev.s[:-1]) / prev.s[-1]
+    s_new = (np.arange(n_new) + 0.5) / n_new
+    return np.interp(s_new, s_old, old)

@@ -108,6 +108,21 @@ class Problem:
     def has_bounds(self) -> bool:
         return bool(np.any(np.isfinite(self.lower)) or np.any(np.isfinite(self.upper)))
 
+    def stack_nonlinear_multipliers(self, per_constraint: Any) -> Array:
+        """The nonlinear rows' multipliers from one array per user constraint (the inverse of the nonlinear part of
+        :meth:`split_multipliers`); ValueError when the shapes do not match."""
+        per_constraint = list(per_constraint)
+        if len(per_constraint) != len(self.kinds):
+            raise ValueError(f"multipliers0 has {len(per_constraint)} arrays; expected {len(self.kinds)} (one per "
+                             "constraint, as in res.constraint_multipliers).")
+        parts = [np.asarray(v, dtype=float).ravel() for v, k in zip(per_constraint, self.kinds, strict=True)
+                 if k == "nonlinear"]
+        out = np.concatenate(parts) if parts else np.zeros(0)
+        if out.size != self.nonlinear.lb.size or not np.all(np.isfinite(out)):
+            raise ValueError(f"multipliers0 holds {out.size} nonlinear multipliers; expected "
+                             f"{self.nonlinear.lb.size} finite values.")
+        return out
+
     def split_multipliers(self, lam_lin: Array, lam_nl: Array) -> list[Array]:
         """The stacked row multipliers as one array per user constraint, in the order given."""
         out: list[Array] = []

@@ -48,6 +48,7 @@ def minimize(
     args: tuple[Any, ...] = (),
     hess: Callable[..., Any] | None = None,
     hess0: Any = None,
+    multipliers0: Any = None,
     qp_solver: str = "daqp",
     qp_options: dict[str, Any] | None = None,
     tol: float = 1e-8,
@@ -80,6 +81,9 @@ def minimize(
     hess0 : array_like, shape (n, n), optional
         Initial Lagrangian Hessian approximation (e.g. the objective's known Hessian); symmetric, positive
         semidefinite (shifted to positive definite if needed). Default: identity, rescaled after the first step.
+    multipliers0 : sequence of arrays, optional
+        Starting multipliers, one array per constraint (e.g. ``res.constraint_multipliers`` of a neighbouring
+        solve): the first exact Lagrangian Hessian and the first merit penalties use them (a warm start).
     qp_solver : str
         qpsolvers backend for the subproblems: "daqp" (dense active set) by default — measured the most accurate and
         fastest on the Hock–Schittkowski subproblems (see ``benchmarks/results/hock_schittkowski.md``); "osqp" (with
@@ -110,7 +114,8 @@ def minimize(
                       callback=callback, verbose=verbose)
     problem = build_problem(fun, x0, jac, bounds, constraints, args, hess)
     B0 = _initial_hessian(hess0, problem.n)
-    return run(problem, options, B0)
+    lam0 = None if multipliers0 is None else problem.stack_nonlinear_multipliers(multipliers0)
+    return run(problem, options, B0, lam0)
 
 
 def _initial_hessian(hess0: Any, n: int) -> Any:
@@ -158,7 +163,7 @@ class _State:
     qp: QPStep | None = None
 
 
-def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
+def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array | None = None) -> Result:
     """Run the SQP iteration on a validated problem."""
     t_start = time.perf_counter()
     ev = Evaluator(problem)
@@ -176,7 +181,7 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
     scaled_start = B0 is None and not exact
     shift = al_weight = 0.0
     st = _State(pt=pt, der=der, B=np.eye(problem.n) if B0 is None or sp.issparse(B0) else B0.copy(),
-                mu=np.zeros(problem.nonlinear.lb.size))
+                mu=np.zeros(problem.nonlinear.lb.size) if lam0 is None else np.abs(lam0))
     if options.verbose:
         print(HEADER)
     status = Status.MAX_ITER
@@ -184,7 +189,8 @@ def run(problem: Problem, options: Options, B0: Array | None = None) -> Result:
     stalled = 0
     for nit in range(options.max_iter + 1):
         if exact:  # the exact Lagrangian Hessian at (x_k, lam_{k-1}), made positive definite
-            lam_prev = st.qp.lam_nl if st.qp is not None else np.zeros(problem.nonlinear.lb.size)
+            lam_prev = st.qp.lam_nl if st.qp is not None else (
+                np.zeros(problem.nonlinear.lb.size) if lam0 is None else lam0)
             st.B, shift, al_weight = convexify(ev.lagrangian_hessian(st.pt.x, lam_prev), shift,
                                                _equality_rows(problem, st.der.J, lam_prev), al_weight)
         # the QP subproblem (Eqs. 9–10), elastic when its linearisation is inconsistent

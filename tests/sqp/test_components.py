@@ -220,3 +220,16 @@ def test_exact_sparse_hessian_and_sparse_jacobian(backend):
     bfgs = sqp.minimize(lambda x: np.sum((x - t) ** 2), np.ones(n) / np.sqrt(n), lambda x: 2 * (x - t),
                         constraints=[con], qp_solver=backend)
     assert bfgs.success and res.nit < bfgs.nit
+
+
+def test_multipliers0_warm_start_and_its_shape_check():
+    con = {"type": "eq", "fun": lambda x: np.array([x @ x - 1]), "jac": lambda x: 2 * x[None, :],
+           "hess": lambda x, v: 2 * v[0] * np.eye(2)}
+    f, g, H = (lambda x: x[0] + 2 * x[1]), (lambda x: np.array([1.0, 2.0])), (lambda x: np.zeros((2, 2)))
+    cold = sqp.minimize(f, [0.0, -1.0], g, constraints=[con], hess=H)
+    warm = sqp.minimize(f, cold.x + 1e-3, g, constraints=[con], hess=H, multipliers0=cold.constraint_multipliers)
+    assert cold.success and warm.success
+    np.testing.assert_allclose(warm.x, -np.array([1.0, 2.0]) / np.sqrt(5.0), atol=1e-9)
+    assert warm.nit <= 3
+    with pytest.raises(ValueError, match="multipliers0"):
+        sqp.minimize(f, [0.0, -1.0], g, constraints=[con], hess=H, multipliers0=[np.zeros(3)])

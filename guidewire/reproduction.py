@@ -52,25 +52,43 @@ class Row:
     note: str = ""
 
 
-def continuum_reference(scene: Scene) -> tuple[Any, str]:
-    """The exact continuum shape of ``scene`` from :mod:`guidewire.reference`, or ``(None, why not)``."""
+@dataclass(frozen=True)
+class ContinuumReference:
+    """The exact continuum shapes of a scene that share the lowest energy (mirror twins of a symmetric scene, e.g.
+    Table 1 with θ_B = 0 or Fig. 6b bending up or down); behaves like the first one."""
+
+    shapes: tuple[Any, ...]
+
+    @property
+    def energy(self) -> float:
+        return float(self.shapes[0].energy)
+
+    def position(self, s: Any) -> np.ndarray:
+        return self.shapes[0].position(s)
+
+
+def continuum_reference(scene: Scene) -> tuple[ContinuumReference | None, str]:
+    """The exact continuum shape(s) of ``scene`` from :mod:`guidewire.reference`, or ``(None, why not)``."""
     try:
-        from .reference import reference_shape
+        from .reference import reference_shapes
     except ImportError as exc:  # the reference module is optional for this command
         return None, f"no reference: {exc}"
     try:
-        shape = reference_shape(
+        shapes = reference_shapes(
             scene.base.point, scene.base.angle, scene.contacts, scene.wire.length, scene.wire.bending_stiffness,
             scene.walls,
         )
     except (NotImplementedError, ValueError) as exc:
         return None, f"no reference: {exc}"
-    return shape, ""
+    return ContinuumReference(tuple(shapes)), ""
 
 
 def node_errors(solution: Solution, reference: Any) -> np.ndarray:
-    """Distance (mm) of every node from the continuum point at the same arc length (the paper's Eq. 25)."""
-    return np.hypot(*(solution.nodes - reference.position(solution.s)).T)
+    """Distance (mm) of every node from the continuum point at the same arc length (the paper's Eq. 25), against
+    the nearest of the equal-lowest-energy continuum shapes."""
+    shapes = reference.shapes if isinstance(reference, ContinuumReference) else (reference,)
+    errors = [np.hypot(*(solution.nodes - shape.position(solution.s)).T) for shape in shapes]
+    return min(errors, key=lambda e: float(e.mean()))
 
 
 def _row(group: str, scene: Scene, sol: Solution, reference: Any, note: str) -> Row:

@@ -83,12 +83,16 @@ def continuum_reference(scene: Scene) -> tuple[ContinuumReference | None, str]:
     return ContinuumReference(tuple(shapes)), ""
 
 
+def nearest_shape(solution: Solution, reference: Any) -> Any:
+    """Of the equal-lowest-energy continuum shapes, the one nearest to ``solution`` (mean node distance)."""
+    shapes = reference.shapes if isinstance(reference, ContinuumReference) else (reference,)
+    return min(shapes, key=lambda shape: float(np.mean(np.hypot(*(solution.nodes - shape.position(solution.s)).T))))
+
+
 def node_errors(solution: Solution, reference: Any) -> np.ndarray:
     """Distance (mm) of every node from the continuum point at the same arc length (the paper's Eq. 25), against
     the nearest of the equal-lowest-energy continuum shapes."""
-    shapes = reference.shapes if isinstance(reference, ContinuumReference) else (reference,)
-    errors = [np.hypot(*(solution.nodes - shape.position(solution.s)).T) for shape in shapes]
-    return min(errors, key=lambda e: float(e.mean()))
+    return np.hypot(*(solution.nodes - nearest_shape(solution, reference).position(solution.s)).T)
 
 
 def _row(group: str, scene: Scene, sol: Solution, reference: Any, note: str) -> Row:
@@ -161,7 +165,7 @@ def reproduce(out: str | Path, *, qp_solver: str | None = None, figures: bool = 
             for scheme in SCHEMES:
                 sol = solve(scene, scheme=scheme, qp_solver=qp_solver)
                 rows.append(_row(group, scene, sol, reference, note))
-                by_scheme[scheme].append((sol, reference))
+                by_scheme[scheme].append((sol, None if reference is None else nearest_shape(sol, reference)))
                 r = rows[-1]
                 err = "" if r.mean_error_mm is None else f" error {r.mean_error_mm:.4f} (max {r.max_error_mm:.4f}) mm"
                 log(f"{scene.name:20s} {scheme:12s} {r.status:10s} E = {sol.energy:.5f} N·mm in {sol.iterations} it, "
@@ -190,4 +194,4 @@ def failures(rows: Sequence[Row]) -> list[Row]:
     return [r for r in rows if r.status not in ("converged", "infeasible")]
 
 
-__all__ = ["Row", "continuum_reference", "failures", "node_errors", "reproduce", "write_tables"]
+__all__ = ["Row", "continuum_reference", "failures", "nearest_shape", "node_errors", "reproduce", "write_tables"]

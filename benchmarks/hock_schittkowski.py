@@ -79,18 +79,10 @@ def run_ours(prob: TestProblem, backend: str) -> dict[str, Any]:
             "message": res.message}
 
 
-def run_slsqp(prob: TestProblem) -> dict[str, Any]:
+def run_scipy(prob: TestProblem, method: str, options: dict[str, Any]) -> dict[str, Any]:
     fun, count = _counted(prob)
     res = minimize(fun, prob.x0, jac=prob.jac, bounds=prob.bounds, constraints=_dict_constraints(prob),
-                   method="SLSQP", options={"maxiter": 500})
-    return {"x": res.x, "f": res.fun, "success": bool(res.success), "nfev": count[0], "nit": res.nit,
-            "message": str(res.message)}
-
-
-def run_trust_constr(prob: TestProblem) -> dict[str, Any]:
-    fun, count = _counted(prob)
-    res = minimize(fun, prob.x0, jac=prob.jac, bounds=prob.bounds, constraints=_dict_constraints(prob),
-                   method="trust-constr", options={"maxiter": 3000})
+                   method=method, options=options)
     return {"x": res.x, "f": res.fun, "success": bool(res.success), "nfev": count[0], "nit": res.nit,
             "message": str(res.message)}
 
@@ -110,8 +102,8 @@ def solvers(names: list[str] | None) -> dict[str, Callable[[TestProblem], dict[s
     table: dict[str, Callable[[TestProblem], dict[str, Any]]] = {}
     for backend in sqp.installed_solvers():
         table[f"sqp[{backend}]"] = lambda p, b=backend: run_ours(p, b)
-    table["scipy SLSQP"] = run_slsqp
-    table["scipy trust-constr"] = run_trust_constr
+    table["scipy SLSQP"] = lambda p: run_scipy(p, "SLSQP", {"maxiter": 500})
+    table["scipy trust-constr"] = lambda p: run_scipy(p, "trust-constr", {"maxiter": 3000})
     try:
         import cyipopt  # noqa: F401
 

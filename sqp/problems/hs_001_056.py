@@ -15,13 +15,15 @@ minimiser attains it (HS33) ``xstar`` is ``None``.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import LinearConstraint
 
-from sqp.problems.problem import TestProblem, hs_optima
+from sqp.problems.problem import TestProblem
+from sqp.problems.problem import eq as _eq
+from sqp.problems.problem import hs_problem as _make
+from sqp.problems.problem import ineq as _ineq
 
 Array = NDArray[np.float64]
 Bounds = Sequence[tuple[float | None, float | None]] | None
@@ -34,38 +36,7 @@ SQRT3 = np.sqrt(3.0)
 # ---------------------------------------------------------------------------------------------------------------
 
 
-def _make(
-    name: str,
-    fun: Callable[[Array], float],
-    jac: Callable[[Array], Array],
-    x0: ArrayLike,
-    bounds: Bounds = None,
-    constraints: Sequence[Any] = (),
-    xstar: ArrayLike | None = None,
-    notes: str = "",
-) -> TestProblem:
-    """Assemble a :class:`TestProblem`, taking f* from the optima table."""
-    return TestProblem(
-        name=name,
-        fun=fun,
-        jac=jac,
-        x0=np.asarray(x0, dtype=float),
-        bounds=bounds,
-        constraints=tuple(constraints),
-        fstar=hs_optima()[name],
-        xstar=None if xstar is None else np.asarray(xstar, dtype=float),
-        notes=notes,
-    )
 
-
-def _eq(fun: Callable[[Array], Array], jac: Callable[[Array], Array]) -> dict[str, Any]:
-    """Nonlinear equality constraints ``fun(x) = 0``."""
-    return {"type": "eq", "fun": fun, "jac": jac}
-
-
-def _ineq(fun: Callable[[Array], Array], jac: Callable[[Array], Array]) -> dict[str, Any]:
-    """Nonlinear inequality constraints ``fun(x) >= 0``."""
-    return {"type": "ineq", "fun": fun, "jac": jac}
 
 
 def _lin_eq(A: ArrayLike, b: ArrayLike) -> LinearConstraint:

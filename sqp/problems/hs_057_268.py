@@ -34,7 +34,10 @@ from numpy.typing import NDArray
 from scipy.optimize import LinearConstraint, brentq
 from scipy.special import ndtr
 
-from sqp.problems.problem import TestProblem, hs_optima
+from sqp.problems.problem import TestProblem
+from sqp.problems.problem import eq as _eq
+from sqp.problems.problem import hs_problem as _make
+from sqp.problems.problem import ineq as _ineq
 
 Array = NDArray[np.float64]
 Fun = Callable[[Array], float]
@@ -48,38 +51,6 @@ SQRT2 = np.sqrt(2.0)
 # --------------------------------------------------------------------------------------------------------------
 
 
-def _make(
-    name: str,
-    fun: Fun,
-    jac: Jac,
-    x0: Sequence[float],
-    bounds: Sequence[tuple[float | None, float | None]] | None = None,
-    constraints: Sequence[object] = (),
-    xstar: Sequence[float] | None = None,
-    notes: str = "",
-) -> TestProblem:
-    """Assemble a problem record, looking its f* up in the optima table."""
-    return TestProblem(
-        name=name,
-        fun=fun,
-        jac=jac,
-        x0=np.asarray(x0, dtype=float),
-        bounds=None if bounds is None else list(bounds),
-        constraints=tuple(constraints),
-        fstar=hs_optima()[name],
-        xstar=None if xstar is None else np.asarray(xstar, dtype=float),
-        notes=notes,
-    )
-
-
-def _ineq(fun: Callable[[Array], Array], jac: Callable[[Array], Array]) -> dict:
-    """An SLSQP inequality ``fun(x) >= 0``."""
-    return {"type": "ineq", "fun": fun, "jac": jac}
-
-
-def _eq(fun: Callable[[Array], Array], jac: Callable[[Array], Array]) -> dict:
-    """An SLSQP equality ``fun(x) == 0``."""
-    return {"type": "eq", "fun": fun, "jac": jac}
 
 
 def _linear(a: Sequence, lb: float | Sequence[float], ub: float | Sequence[float]) -> LinearConstraint:

@@ -87,3 +87,31 @@ def hs_optima() -> dict[str, float]:
     text = resources.files("sqp.problems").joinpath("data/hs_optima.csv").read_text()
     rows = csv.DictReader(line for line in text.splitlines() if not line.startswith("#"))
     return {row["name"]: float(row["fstar"]) for row in rows}
+
+
+def hs_problem(
+    name: str,
+    fun: Callable[[NDArray[np.float64]], float],
+    jac: Callable[[NDArray[np.float64]], NDArray[np.float64]],
+    x0: Any,
+    bounds: Sequence[tuple[float | None, float | None]] | None = None,
+    constraints: Sequence[Any] = (),
+    xstar: Any = None,
+    notes: str = "",
+) -> TestProblem:
+    """A Hock–Schittkowski :class:`TestProblem`, its f* looked up in the optima table."""
+    return TestProblem(
+        name=name, fun=fun, jac=jac, x0=np.asarray(x0, dtype=float),
+        bounds=None if bounds is None else list(bounds), constraints=tuple(constraints), fstar=hs_optima()[name],
+        xstar=None if xstar is None else np.asarray(xstar, dtype=float), notes=notes,
+    )
+
+
+def eq(fun: Callable[[NDArray[np.float64]], Any], jac: Callable[[NDArray[np.float64]], Any]) -> dict[str, Any]:
+    """Nonlinear equality constraints ``fun(x) = 0`` as an SLSQP dict."""
+    return {"type": "eq", "fun": fun, "jac": jac}
+
+
+def ineq(fun: Callable[[NDArray[np.float64]], Any], jac: Callable[[NDArray[np.float64]], Any]) -> dict[str, Any]:
+    """Nonlinear inequality constraints ``fun(x) >= 0`` as an SLSQP dict."""
+    return {"type": "ineq", "fun": fun, "jac": jac}

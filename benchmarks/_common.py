@@ -12,8 +12,9 @@ What it holds
   the formulation offers them (``Formulation.hess`` and a ``"hess"`` key in every nonlinear constraint dict, scipy's
   ``NonlinearConstraint`` convention ``hess(x, v) = Σ v_i ∇²c_i``); otherwise trust-constr gets the exact (constant)
   energy Hessian with BFGS for the constraints and IPOPT its limited-memory quasi-Newton;
-- timing: our time is ``Solution.solve_time_s`` (the wall time of :func:`sqp.minimize`, formulation excluded), a
-  peer's the wall time of its ``minimize`` call (its callables are prepared outside the timer); the median over
+- timing: our time is ``Solution.solve_time_s`` as :func:`guidewire.solve` measures it (formulation from the given
+  start, :func:`sqp.minimize` and any wall working-set rounds), a peer's the wall time of its ``minimize`` call (its
+  callables, constraint conversions and sparsity patterns are prepared outside the timer); the median over
   repeats, with a single run once a solve takes more than :data:`SINGLE_RUN_S`; a per-solve time limit (SIGALRM
   raising a ``BaseException``, so no ``except Exception`` inside a solver can swallow it);
 - evaluation of any answer ``x`` on the same scale: energy, largest constraint violation, node errors against the
@@ -473,23 +474,27 @@ class Budget:
     1. after a solve passes ``limit`` s the solver is not run at larger n for that key ("stopped: > limit s at n");
     2. once a solve takes more than ``limit / 20`` s, the next n is predicted from the solver's own growth per
        doubling of n over its last two points (at least ×2) and not started when the prediction exceeds the limit;
-    3. once a solver has spent ``solver_budget`` s of solve time in the whole run (repeats included), it is not
-       started again (loops run n in the outer loop, so this cuts the largest n first).
+    3. once a solver has spent ``solver_budget`` s of solve time on one ``group`` of keys (e.g. the wall scenes, or
+       the contact scenes; repeats included), it is not started again on that group (loops run n in the outer loop,
+       so this cuts the largest n first). Solvers in ``exempt`` (``ours``, the yardstick of every ratio) have no
+       budget.
     """
 
-    def __init__(self, limit: float, solver_budget: float = math.inf) -> None:
+    def __init__(self, limit: float, solver_budget: float = math.inf, exempt: Sequence[str] = ("ours",)) -> None:
         self.limit = limit
         self.solver_budget = solver_budget
+        self.exempt = tuple(exempt)
         self.stopped: dict[tuple[str, str], str] = {}
         self.history: dict[tuple[str, str], list[tuple[int, float]]] = {}
-        self.spent: dict[str, float] = {}
+        self.spent: dict[tuple[str, str], float] = {}
 
-    def reason_to_skip(self, solver: str, key: str, n: int) -> str | None:
-        """Why ``solver`` should not run at ``n`` on ``key``, or None."""
+    def reason_to_skip(self, solver: str, key: str, n: int, group: str = "") -> str | None:
+        """Why ``solver`` should not run at ``n`` on ``key`` (in ``group``), or None."""
         if (solver, key) in self.stopped:
             return self.stopped[(solver, key)]
-        if self.spent.get(solver, 0.0) >= self.solver_budget:
-            return f"skipped: the solver's time budget ({self.solver_budget:g} s of solves) was spent"
+        if solver not in self.exempt and self.spent.get((solver, group), 0.0) >= self.solver_budget:
+            where = f" on the {group}" if group else ""
+            return f"skipped: the solver's time budget{where} ({self.solver_budget:g} s of solves) was spent"
         hist = self.history.get((solver, key), [])
         if hist and hist[-1][1] > self.limit / 20:
             (n1, t1) = hist[-1]
@@ -505,14 +510,14 @@ class Budget:
                 return self.stopped[(solver, key)]
         return None
 
-    def record(self, solver: str, key: str, n: int, result: dict[str, Any]) -> None:
+    def record(self, solver: str, key: str, n: int, result: dict[str, Any], group: str = "") -> None:
         """Account for one measured result."""
         if result["outcome"] == "timeout":
             self.stopped[(solver, key)] = f"stopped: > {self.limit:g} s at n = {n}"
         elif result["outcome"] == "ran":
             self.history.setdefault((solver, key), []).append((n, float(result["time"])))
         spent = float(result["time"]) * max(1, int(result.get("repeats", 1)))
-        self.spent[solver] = self.spent.get(solver, 0.0) + (spent if np.isfinite(spent) else 0.0)
+        self.spent[(solver, group)] = self.spent.get((solver, group), 0.0) + (spent if np.isfinite(spent) else 0.0)
 
 
 _REFERENCES: dict[Any, tuple[Any, str]] = {}

@@ -17,7 +17,8 @@ function evaluations, energy (and its relative difference to the continuum energ
 mean and max node error (mm) against the exact continuum elastica at the same arc length (the paper's Eq. 25, via
 :func:`guidewire.reproduction.node_errors`). A solve longer than ``--limit`` s is stopped and that solver is not run
 at larger n in that sweep and scheme; a solve predicted to pass the limit is not started, and a solver that has spent
-``--budget`` s (default 100) of solve time is not started again (:class:`_common.Budget`); every skip is in the table.
+``--budget`` s (default 100) of solve time is not started again (``ours`` has no budget; :class:`_common.Budget`);
+every skip is in the table.
 
 The order p of each scheme is the least-squares slope of log(mean error) against log(n/L) over ours' solves. The
 figure has four panels: time vs n/L (Fig. 10), error vs n/L with the fitted orders, error vs run time (one curve per

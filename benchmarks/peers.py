@@ -21,9 +21,9 @@ it reports success at a feasible point (violation ≤ 1e-6) on the lowest branch
 Time limits: a solve longer than ``--limit`` s (default 60) is stopped (SIGALRM) and that solver is not run at larger
 n on that scene ("stopped: > 60 s at n = …"). To keep the full run near 20 minutes, a solver whose last two times on
 a scene predict more than the limit at the next n (its own measured growth per doubling, at least ×2, once it takes
-> limit/20) is not started there ("skipped: predicted …"), and a solver that has spent ``--budget`` s (default 100) of
-solve time in the run is not started again (n is the outer loop, so this cuts the largest n first); every skip is
-written in the tables (:class:`_common.Budget`).
+> limit/20) is not started there ("skipped: predicted …"), and a solver other than ``ours`` that has spent ``--budget``
+s (default 60) of solve time on the wall scenes, or on the contact scenes, is not started again on them (n is the
+outer loop, so this cuts the largest n first); every skip is written in the tables (:class:`_common.Budget`).
 
 Usage: ``python benchmarks/peers.py [--quick] [--repeats K] [--out DIR] [--limit S] [--bars 25,100] [--solvers a,b]``
 Writes ``peers.{md,csv,png}`` (``peers_quick.*`` with ``--quick``) in ``--out`` (default ``benchmarks/results``).
@@ -77,14 +77,15 @@ def run_case(case: C.Case, solvers: dict[str, Any], budget: C.Budget | None, rep
     """Every solver on one case: the raw results by solver name."""
     out: dict[str, dict[str, Any]] = {}
     for name, run in solvers.items():
-        skip = budget.reason_to_skip(name, case.scene.name, case.n) if budget else None
+        group = "wall scenes" if is_wall_scene(case.scene) else "contact scenes"
+        skip = budget.reason_to_skip(name, case.scene.name, case.n, group) if budget else None
         if skip is not None:
             out[name] = {"outcome": "skipped", "time": math.nan, "x": None, "success": False, "message": skip,
                          "nit": 0, "nfev": 0, "repeats": 0}
             continue
         res = C.measure(run, case, repeats, limit)
         if budget:
-            budget.record(name, case.scene.name, case.n, res)
+            budget.record(name, case.scene.name, case.n, res, group)
         out[name] = res
     return out
 
@@ -204,7 +205,8 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=3, help="timing repeats per solve (median reported)")
     ap.add_argument("--out", type=Path, default=C.RESULTS)
     ap.add_argument("--limit", type=float, default=60.0, help="time limit of one solve (s)")
-    ap.add_argument("--budget", type=float, default=100.0, help="solve time (s) per solver for the whole run")
+    ap.add_argument("--budget", type=float, default=60.0,
+                    help="solve time (s) per peer on the wall scenes and again on the contact scenes")
     ap.add_argument("--bars", type=str, default="", help="comma-separated n values (default: the full grid)")
     ap.add_argument("--scenes", type=str, default="", help="comma-separated substrings of scene names")
     ap.add_argument("--solvers", type=str, default="", help="comma-separated substrings of solver names")
@@ -221,7 +223,8 @@ def main() -> None:
     env = C.environment()
     settings = (f"{len(scene_list)} scenes × n ∈ {list(bars)} (+ straight start at n = {straight_bars}); "
                 f"{len(solvers)} solvers: {', '.join(solvers)}; median of {repeats} repeat(s) (one run once a solve "
-                f"takes > {C.SINGLE_RUN_S:g} s); time limit {limit:g} s per solve, {a.budget:g} s of solves per solver")
+                f"takes > {C.SINGLE_RUN_S:g} s); time limit {limit:g} s per solve, {a.budget:g} s of solves per peer "
+                "on the wall scenes and again on the contact scenes")
     print("\n".join(env + [settings]))
     hessian_note = C.peer_hessian_note(C.make_case(scene_list[0], bars=bars[0]).form)
 

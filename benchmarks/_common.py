@@ -208,7 +208,12 @@ def default_qp_solver() -> str:
     default = _solve_parameters()["qp_solver"].default
     if isinstance(default, str):
         return repr(default)
-    chooser = getattr(inspect.getmodule(guidewire.solve), "default_qp_solver", None)
+    module = inspect.getmodule(guidewire.solve)
+    chooser = getattr(module, "default_qp_solver", None)
+    formulation = getattr(module, "choose_formulation", None)
+    if callable(chooser) and callable(formulation):
+        return "by size (" + ", ".join(f"n = {n}: {formulation(n)} formulation, {chooser(n, formulation(n))}"
+                                       for n in (100, 1000)) + ")"
     if callable(chooser):
         return f"by size ({', '.join(f'n = {n}: {chooser(n)}' for n in (100, 1000))})"
     return "sqp.minimize's default"

@@ -76,8 +76,11 @@ def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0) -> tu
        constant, so the QP step is the exact Newton–SQP step whenever ``W`` is positive definite on the null space
        of ``C`` (second-order sufficiency), while ``W`` alone may be indefinite — a wire under compression is.
        ``rho`` starts at a quarter of the last value that worked, or ``1e-3 max|W_ii| / max|C^T C_ii|``, and grows
-       tenfold. Used when ``W`` is dense or small (the term is dense; up to :data:`DENSE_LIMIT` variables a sparse
-       ``W`` is made dense for it).
+       tenfold (when sparse, where every test is a sparse factorisation, the last weight is kept rather than
+       quartered, and ``W`` is not tested alone again once it needed the term). Used when
+       ``W`` is dense or small (up to :data:`DENSE_LIMIT` variables a sparse ``W`` is made dense
+       for it), and for a large sparse ``W`` when ``C`` is sparse and ``C^T C`` stays sparse (at most
+       :data:`SPARSE_GRAM_DENSITY` nonzeros per variable; tested by the sparse LU below, O(n) when banded).
     3. ``W + delta I`` (an inertia correction as in IPOPT), ``delta`` from ``max(shift / 4, 1e-8 s)`` growing
        tenfold, ``s = max(1, max|W_ii|)``. (A shift along ``hess0`` instead of ``I`` was tried on the guidewire and
        needed 5-20x more iterations.)
@@ -96,19 +99,21 @@ def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0) -> tu
     if sp.issparse(W) and n <= DENSE_LIMIT:
         W = W.toarray()
     is_sparse = sp.issparse(W)
-    if _positive_definite(W, is_sparse):
+    # (a large sparse W that needed the augmented-Lagrangian term last time goes straight to it: each test is a
+    # sparse factorisation, and the term leaves the step unchanged)
+    if not (is_sparse and rho > 0.0) and _positive_definite(W, is_sparse):
         return W, 0.0, 0.0
     diag = W.diagonal() if is_sparse else np.diag(W)
     scale = max(1.0, float(np.max(np.abs(diag), initial=0.0)))
-    if C is not None and C.shape[0] and not is_sparse:
-        C = C.toarray() if sp.issparse(C) else np.asarray(C)
-        CtC = C.T @ C
-        base = float(np.max(np.diag(CtC), initial=0.0))
+    CtC = _gram(C, is_sparse)
+    if CtC is not None:
+        base = float(np.max(CtC.diagonal(), initial=0.0))
         if base > 0.0:
-            r = rho / 4.0 if rho > 0.0 else 1e-3 * scale / base
+            r0 = 1e-3 * scale / base
+            r = r0 if rho <= 0.0 else max(rho, r0) if is_sparse else rho / 4.0
             for _ in range(12):
                 B = W + r * CtC
-                if _positive_definite(B, False):
+                if _positive_definite(B, is_sparse):
                     return B, 0.0, r
                 r *= 10.0
     eye = sp.identity(n, format="csc") if is_sparse else np.eye(n)
@@ -119,6 +124,26 @@ def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0) -> tu
             return B, delta, 0.0
         delta *= 10.0
     return B, delta, 0.0
+
+
+#: A sparse ``C^T C`` is used only while it has at most this many nonzeros per variable (a banded one, e.g. the
+#: guidewire's full-space closure rows, has about 5); a denser one (dense rows stored sparse) would make the sparse
+#: factorisation as costly as a dense one.
+SPARSE_GRAM_DENSITY = 20
+
+
+def _gram(C: Any, is_sparse: bool) -> Any:
+    """``C^T C`` for the augmented-Lagrangian term: dense for a dense ``W``; sparse CSC for a sparse ``W`` and a
+    sparse ``C`` whose product stays sparse; otherwise None (no term)."""
+    if C is None or not C.shape[0]:
+        return None
+    if not is_sparse:
+        C = C.toarray() if sp.issparse(C) else np.asarray(C)
+        return C.T @ C
+    if not sp.issparse(C):
+        return None
+    CtC = sp.csc_matrix(C.T @ C)
+    return CtC if CtC.nnz <= SPARSE_GRAM_DENSITY * CtC.shape[0] else None
 
 
 def _positive_definite(B: Any, is_sparse: bool) -> bool:

@@ -180,7 +180,10 @@ def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array
     exact = problem.hess is not None
     scaled_start = B0 is None and not exact
     shift = al_weight = 0.0
-    st = _State(pt=pt, der=der, B=np.eye(problem.n) if B0 is None or sp.issparse(B0) else B0.copy(),
+    # (with exact Hessians B is replaced before its first use: no dense n x n identity for a large sparse problem)
+    B_start = sp.identity(problem.n, format="csc") if exact else (
+        np.eye(problem.n) if B0 is None or sp.issparse(B0) else B0.copy())
+    st = _State(pt=pt, der=der, B=B_start,
                 mu=np.zeros(problem.nonlinear.lb.size) if lam0 is None else np.abs(lam0))
     if options.verbose:
         print(HEADER)
@@ -196,7 +199,8 @@ def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array
         # the QP subproblem (Eqs. 9–10), elastic when its linearisation is inconsistent
         qp, rho = _subproblem(problem, options, st, rho)
         if not qp.found:
-            st.B = np.eye(problem.n) * max(1.0, float(np.mean(np.abs(st.B.diagonal()))))
+            eye = sp.identity(problem.n, format="csc") if sp.issparse(st.B) else np.eye(problem.n)
+            st.B = eye * max(1.0, float(np.mean(np.abs(st.B.diagonal()))))
             qp, rho = _subproblem(problem, options, st, rho)
             if not qp.found:
                 status = Status.QP_FAILED

@@ -158,8 +158,9 @@ def _row_multipliers(rows: Rows, y: Array, z: Array, where: tuple[int, ...]) -> 
 
 
 def _prepare(solver: str, P: Any, G: Any, E: Any) -> tuple[Any, Any, Any]:
-    """Dense arrays for dense-only backends, CSC for sparse ones."""
-    if solver in qpsolvers.sparse_solvers and solver not in ("piqp", "proxqp"):
+    """Dense arrays for dense-only backends, CSC for sparse ones. PIQP and ProxQP have both kinds of backend: they
+    get CSC when the model Hessian is sparse (the large case), dense arrays otherwise (faster for small QPs)."""
+    if solver in qpsolvers.sparse_solvers and (solver not in ("piqp", "proxqp") or sp.issparse(P)):
         conv = lambda M: None if M is None else sp.csc_matrix(M)  # noqa: E731
     else:
         conv = lambda M: None if M is None else (M.toarray() if sp.issparse(M) else np.asarray(M))  # noqa: E731

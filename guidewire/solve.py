@@ -22,6 +22,9 @@ MAX_WALL_ROUNDS = 8
 
 FORMULATIONS = ("auto", "reduced", "full")
 
+#: ``formulation="auto"`` uses the full-space program above this many bars (see :func:`choose_formulation`).
+FULL_SPACE_BARS = 200
+
 
 def default_qp_solver(bars: int, formulation: str = "reduced") -> str:
     """The QP backend :func:`solve` uses for ``bars`` bars when none is given: DAQP while the engine works densely;
@@ -33,12 +36,13 @@ def default_qp_solver(bars: int, formulation: str = "reduced") -> str:
 
 
 def choose_formulation(bars: int, hessian: str = "exact") -> str:
-    """What ``formulation="auto"`` means: the reduced program (angles only) up to :data:`DENSE_BARS` bars, where
-    its dense QPs are fastest, and the full-space one (:mod:`guidewire.full_space`: angles and nodes, every row
-    sparse) above, with the exact Hessian. Measured on Fig. 6a at 400 / 1600 bars: reduced 2.1 s / 76 s, full
-    28 ms / 0.10 s; Table 1 (π/4) at 1600 bars: reduced 68 ms, full 51 ms. The BFGS path stays reduced (the
-    paper's algorithm)."""
-    return "full" if hessian == "exact" and bars > DENSE_BARS else "reduced"
+    """What ``formulation="auto"`` means: the reduced program (angles only) up to :data:`FULL_SPACE_BARS` bars,
+    where its dense QPs are fastest, and the full-space one (:mod:`guidewire.full_space`: angles and nodes, every
+    row sparse) above, with the exact Hessian. Measured on Fig. 6a at 400 / 1600 bars: reduced 2.1 s / 76 s, full
+    28 ms / 0.10 s; Table 1 (π/4) at 1600 bars: reduced 68 ms, full 51 ms; the paper scenes at 150 bars: reduced
+    1.6-2x faster, at 200 a tie (reduced 0.7-1x the time), at 300 full 1.3-1.7x faster. The BFGS path stays
+    reduced (the paper's algorithm)."""
+    return "full" if hessian == "exact" and bars > FULL_SPACE_BARS else "reduced"
 
 
 def solve(
@@ -78,7 +82,7 @@ def solve(
         ``"reduced"``: the paper's program, bar angles only (dense rows: a node depends on every earlier angle).
         ``"full"``: bar angles and node positions as variables, closed by sparse equalities
         (:mod:`guidewire.full_space`; exact Hessian only), O(n) per iteration. ``"auto"`` (default):
-        :func:`choose_formulation` (full space above :data:`DENSE_BARS` bars). Both give the same shape.
+        :func:`choose_formulation` (full space above :data:`FULL_SPACE_BARS` bars). Both give the same shape.
     multipliers0 : sequence of arrays, optional
         Starting multipliers (``solution.result.constraint_multipliers`` of a neighbouring solve with the same
         constraint blocks), used when the blocks match; see :func:`solve_sequence`.

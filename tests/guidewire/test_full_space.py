@@ -153,7 +153,7 @@ def test_sparse_path_and_solve_full():
 
 
 def test_solve_routes_large_scenes_to_the_full_space():
-    """``formulation="auto"`` is the full space above DENSE_BARS bars (exact Hessian), the reduced program below and
+    """``formulation="auto"`` is the full space above FULL_SPACE_BARS bars (exact Hessian), the reduced program below and
     for BFGS; the full-space answer holds every wall at every node and approaches the continuum energy."""
     scene = SCENES["fig6a"]
     sol = solve(scene, bars=400)

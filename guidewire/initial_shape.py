@@ -45,8 +45,9 @@ CLOSURE_TOLERANCE = 1e-9
 WALL_MARGIN = 1.05
 """Factor on the smallest wall-feasible curvature of the free part, so the start is strictly inside the walls."""
 
-_TRIAL_CURVATURES = np.concatenate(([0.0], np.geomspace(1e-4, 1.0, 100)))
-"""Trial curvatures of the free part, as fractions of ``4π / L_free`` (two full turns); 0 first."""
+_TRIAL_CURVATURES = np.concatenate(([0.0], np.geomspace(1e-4, 10.0, 125)))
+"""Trial curvatures of the free part, as fractions of ``4π / L_free`` (two full turns; up to 20 turns, for a long
+wire in front of a near wall); 0 first."""
 
 
 def _wrap(angle: float) -> float:

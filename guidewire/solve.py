@@ -172,8 +172,60 @@ def solve_sequence(scenes: Iterable[Scene], **options: Any) -> list[Solution]:
             prev = out[-1]
             options["initial_angles"] = _resampled_angles(prev, scene, options.get("bars"))
             options["multipliers0"] = prev.result.constraint_multipliers
+            t = _secant_factor(out[-2].scene, prev.scene, scene) if len(out) >= 2 else 0.0
+            if t and out[-2].bar_angles.size == prev.bar_angles.size == options["initial_angles"].size:
+                options["initial_angles"], options["multipliers0"] = _secant_prediction(out[-2], prev, t)
         out.append(solve(scene, **options))
     return out
+
+
+#: The secant predictor of :func:`solve_sequence` is used when the last two scene changes are this parallel (cosine).
+SECANT_COSINE = 0.999
+
+
+def _scene_parameters(scene: Scene) -> tuple[tuple[Any, ...], Any]:
+    """(layout, values): which geometric fields of ``scene`` are set, and their values (mm, rad) as one vector."""
+    key: list[Any] = [scene.wire.bars, scene.base.angle is None, len(scene.contacts), len(scene.walls),
+                      scene.wire.max_relative_angle is None]
+    values = [scene.wire.length, *scene.base.point]
+    values += [] if scene.base.angle is None else [scene.base.angle]
+    values += [] if scene.wire.max_relative_angle is None else [scene.wire.max_relative_angle]
+    for c in scene.contacts:
+        key += [c.point is None, c.angle is None]
+        values += [c.s, *(c.point or ())] + ([] if c.angle is None else [c.angle])
+    for w in scene.walls:
+        values += [*w.normal, w.offset]
+    return tuple(key), np.asarray(values, dtype=float)
+
+
+def _secant_factor(a: Scene, b: Scene, c: Scene) -> float:
+    """``t`` with ``p(c) − p(b) = t (p(b) − p(a))`` for the scene parameters ``p`` when the two changes are parallel
+    (a steady advance: a contact moving along a line, the inserted length growing), else 0."""
+    (ka, pa), (kb, pb), (kc, pc) = _scene_parameters(a), _scene_parameters(b), _scene_parameters(c)
+    if not (ka == kb == kc) or pa.size != pc.size:
+        return 0.0
+    old, new = pb - pa, pc - pb
+    norm_old, norm_new = float(np.linalg.norm(old)), float(np.linalg.norm(new))
+    if norm_old == 0.0 or norm_new == 0.0 or float(old @ new) < SECANT_COSINE * norm_old * norm_new:
+        return 0.0
+    return norm_new / norm_old
+
+
+def _secant_prediction(older: Solution, prev: Solution, t: float) -> tuple[Any, Any]:
+    """Start angles and multipliers extrapolated along the last change: ``x + t (x − x_older)`` (the first-order
+    predictor of a continuation method, so the Newton corrector starts O(h²) rather than O(h) from the answer).
+    A multiplier is extrapolated only where it kept its sign over both steps and keeps it (a wall or b₂ row that
+    is leaving or entering contact keeps its last value)."""
+    angles = prev.bar_angles + t * (prev.bar_angles - older.bar_angles)
+    lam_prev, lam_older = prev.result.constraint_multipliers, older.result.constraint_multipliers
+    if [np.size(v) for v in lam_prev] != [np.size(v) for v in lam_older]:
+        return angles, lam_prev
+    lam = []
+    for a, b in zip(lam_prev, lam_older, strict=True):
+        a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+        guess = a + t * (a - b)
+        lam.append(np.where((np.sign(guess) == np.sign(a)) & (np.sign(a) == np.sign(b)), guess, a))
+    return angles, lam
 
 
 def _resampled_angles(prev: Solution, scene: Scene, bars: int | None) -> Any:

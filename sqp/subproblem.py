@@ -308,27 +308,17 @@ def _solve_elastic(
     """
     n = g.size
     r = nonlinear.rows
-    M = nonlinear.M
-    M = M.toarray() if sp.issparse(M) else np.asarray(M)
     # one-sided nonlinear rows S d >= s_lo, each with its own slack: eq rows give both sides
     low_idx = np.concatenate([r.eq, r.lower])
     up_idx = np.concatenate([r.eq, r.upper])
     k = low_idx.size + up_idx.size
-    # G [d; t] <= h :  -M_low d - t_low <= -lo_low ;  M_up d - t_up <= hi_up
-    G_nl = np.block([
-        [-M[low_idx], -np.eye(low_idx.size), np.zeros((low_idx.size, up_idx.size))],
-        [M[up_idx], np.zeros((up_idx.size, low_idx.size)), -np.eye(up_idx.size)],
-    ])
     h_nl = np.concatenate([-nonlinear.lo[low_idx], nonlinear.hi[up_idx]])
     El, el, Gl, hl, where_lin = _stack_rows([linear], n)
-    El = El.toarray() if sp.issparse(El) else El
-    Gl = Gl.toarray() if sp.issparse(Gl) else Gl
-    G = np.vstack([G_nl, np.hstack([Gl, np.zeros((Gl.shape[0], k))])])
+    if sp.issparse(B):  # a large sparse model: the elastic QP stays sparse (a dense one of n + k variables is slow)
+        G, E, P = _elastic_matrices_sparse(B, nonlinear.M, low_idx, up_idx, El, Gl)
+    else:
+        G, E, P = _elastic_matrices_dense(B, nonlinear.M, low_idx, up_idx, El, Gl)
     h = np.concatenate([h_nl, hl])
-    E = np.hstack([El, np.zeros((El.shape[0], k))])
-    Bd = B.toarray() if sp.issparse(B) else np.asarray(B)
-    reg = 1e-10 * max(1.0, float(np.max(np.abs(np.diag(Bd)))))  # keeps P positive definite for quadprog
-    P = np.block([[Bd, np.zeros((n, k))], [np.zeros((k, n)), reg * np.eye(k)]])
     q = np.concatenate([g, np.full(k, rho)])
     lo = np.concatenate([box_lo, np.zeros(k)])
     hi = np.concatenate([box_hi, np.full(k, np.inf)])
@@ -346,3 +336,39 @@ def _solve_elastic(
     t = np.maximum(sol.x[n:], 0.0)
     return QPStep(d=sol.x[:n], lam_nl=lam_nl, lam_lin=lam_lin, z=zb, found=True, elastic=True,
                   slack=float(np.sum(t)), status="elastic" if used == backends[0][0] else f"elastic[{used}]")
+
+
+def _elastic_matrices_dense(B: Any, M: Any, low_idx: Array, up_idx: Array, El: Any, Gl: Any) -> tuple[Any, Any, Any]:
+    """``G [d; t] <= h`` (``-M_low d - t_low <= -lo_low``, ``M_up d - t_up <= hi_up``, then the linear rows), the
+    equalities ``[E 0]`` and ``P = diag(B, reg I)``, dense."""
+    M = M.toarray() if sp.issparse(M) else np.asarray(M)
+    nl, nu = low_idx.size, up_idx.size
+    k, n = nl + nu, M.shape[1]
+    G_nl = np.block([
+        [-M[low_idx], -np.eye(nl), np.zeros((nl, nu))],
+        [M[up_idx], np.zeros((nu, nl)), -np.eye(nu)],
+    ])
+    El = El.toarray() if sp.issparse(El) else El
+    Gl = Gl.toarray() if sp.issparse(Gl) else Gl
+    G = np.vstack([G_nl, np.hstack([Gl, np.zeros((Gl.shape[0], k))])])
+    E = np.hstack([El, np.zeros((El.shape[0], k))])
+    Bd = np.asarray(B)
+    reg = 1e-10 * max(1.0, float(np.max(np.abs(np.diag(Bd)))))  # keeps P positive definite for quadprog
+    P = np.block([[Bd, np.zeros((n, k))], [np.zeros((k, n)), reg * np.eye(k)]])
+    return G, E, P
+
+
+def _elastic_matrices_sparse(B: Any, M: Any, low_idx: Array, up_idx: Array, El: Any, Gl: Any) -> tuple[Any, Any, Any]:
+    """As :func:`_elastic_matrices_dense`, in CSC."""
+    M = sp.csr_matrix(M)
+    nl, nu = low_idx.size, up_idx.size
+    k = nl + nu
+    G_nl = sp.vstack([
+        sp.hstack([-M[low_idx], -sp.identity(nl), sp.csr_matrix((nl, nu))]),
+        sp.hstack([M[up_idx], sp.csr_matrix((nu, nl)), -sp.identity(nu)]),
+    ])
+    G = sp.vstack([G_nl, sp.hstack([sp.csr_matrix(Gl), sp.csr_matrix((Gl.shape[0], k))])], format="csc")
+    E = sp.hstack([sp.csr_matrix(El), sp.csr_matrix((El.shape[0], k))], format="csc")
+    reg = 1e-10 * max(1.0, float(np.max(np.abs(B.diagonal()), initial=0.0)))
+    P = sp.block_diag([sp.csc_matrix(B), reg * sp.identity(k, format="csc")], format="csc")
+    return G, E, P

@@ -153,8 +153,8 @@ def test_sparse_path_and_solve_full():
 
 
 def test_solve_routes_large_scenes_to_the_full_space():
-    """``formulation="auto"`` is the full space above FULL_SPACE_BARS bars (exact Hessian), the reduced program below and
-    for BFGS; the full-space answer holds every wall at every node and approaches the continuum energy."""
+    """``formulation="auto"`` is the full space above FULL_SPACE_BARS bars (exact Hessian), the reduced program
+    below and for BFGS; the full-space answer holds every wall at every node and approaches the continuum energy."""
     scene = SCENES["fig6a"]
     sol = solve(scene, bars=400)
     assert sol.success and sol.iterations <= 8
@@ -172,3 +172,17 @@ def test_formulation_option_is_validated():
         solve(scene, formulation="dense")
     with pytest.raises(ValueError, match="hessian='exact'"):
         solve(scene, formulation="full", hessian="bfgs")
+
+
+def test_wire_pushed_head_on_into_a_near_wall():
+    """A 300 mm wire clamped along +x with the wall x ≤ 10 straight ahead: the straight start's linearisation is
+    inconsistent (x increments are l to first order), so the start must coil inside the wall (trial curvatures up to
+    20 turns) and the first QPs are elastic (kept sparse in the full space). Both formulations find the same shape."""
+    wire = Wire(300.0, 300, moment_of_inertia=0.01816)
+    scene = Scene(wire, Base((0.0, 0.0), 0.0), walls=(Wall((1.0, 0.0), 10.0),))
+    full = solve(scene)
+    reduced = solve(scene, formulation="reduced")
+    assert full.success and reduced.success, (full.message, reduced.message)
+    assert "full_x" in full.result
+    assert full.energy == pytest.approx(reduced.energy, rel=1e-8)
+    assert np.max(full.nodes[:, 0]) <= 10.0 + 1e-6 and np.max(reduced.nodes[:, 0]) <= 10.0 + 1e-6

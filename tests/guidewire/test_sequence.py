@@ -38,3 +38,21 @@ def test_growing_inserted_length_resamples_the_previous_shape():
     assert all(s.success for s in sols)
     assert [s.nodes.shape[0] for s in sols] == [91, 96, 101]
     assert all(s.max_violation <= 1e-8 for s in sols)
+
+
+def test_steady_advance_uses_the_secant_predictor():
+    """Along a steady advance (equal, parallel scene changes) each step after the second starts from the secant
+    extrapolation of the last two answers: one Newton step and the converged check (2 iterations)."""
+    sols = guidewire.solve_sequence(_sliding(8))
+    assert all(s.success for s in sols)
+    assert [s.iterations for s in sols[2:]] == [2] * 6
+
+
+def test_secant_factor_only_for_parallel_changes():
+    from guidewire.solve import _secant_factor
+
+    a, b, c, _ = _sliding(4)
+    assert _secant_factor(a, b, c) == pytest.approx(1.0)
+    assert _secant_factor(a, c, c) == 0.0  # no change
+    assert _secant_factor(a, b, replace(c, contacts=(replace(c.contacts[0], point=(60.0, 45.0)),))) == 0.0
+    assert _secant_factor(a, b, b.with_bars(50)) == 0.0  # another layout

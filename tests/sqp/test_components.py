@@ -73,6 +73,29 @@ def test_elastic_qp_solves_an_inconsistent_linearisation():
     np.testing.assert_allclose(res.x, -np.sqrt(0.5) * np.ones(2), atol=1e-7)
 
 
+def test_sparse_elastic_qp_matches_the_dense_one():
+    """A sparse model Hessian keeps the elastic QP sparse (PIQP's sparse backend), with the dense QP's answer."""
+    import scipy.sparse as sp
+
+    rng = np.random.default_rng(3)
+    n = 6
+    A = rng.standard_normal((n, n))
+    B = A @ A.T + n * np.eye(n)
+    g = rng.standard_normal(n)
+    M = rng.standard_normal((2, n))
+    rows = Rows.from_bounds(np.array([0.0, 0.0]), np.array([0.0, np.inf]))  # an equality and a lower row
+    nl = linearise(np.vstack([M[0], M[0]]), np.array([-1.0, -5.0]), rows)  # the same direction, inconsistent
+    lin = linearise(np.zeros((0, n)), np.zeros(0), Rows.from_bounds(np.zeros(0), np.zeros(0)))
+    box = np.full(n, np.inf)
+    dense = solve_subproblem(B, g, nl, lin, -box, box, backends=[("piqp", {})], elastic_penalty=50.0)
+    sparse = solve_subproblem(sp.csc_matrix(B), g, nl, lin, -box, box, backends=[("piqp", {})],
+                              elastic_penalty=50.0)
+    assert dense.found and sparse.found and dense.elastic and sparse.elastic
+    np.testing.assert_allclose(sparse.d, dense.d, atol=1e-6)
+    np.testing.assert_allclose(sparse.lam_nl, dense.lam_nl, atol=1e-5)
+    assert sparse.slack == pytest.approx(dense.slack, abs=1e-6) and sparse.slack > 0.1
+
+
 def test_max_iter_status():
     res = sqp.minimize(lambda x: (x[0] - 3) ** 4 + x[1] ** 2, [0.0, 1.0], max_iter=1)
     assert not res.success

@@ -413,6 +413,10 @@ def _stalled_status(problem: Problem, st: _State, d: Array) -> Status:
         if st.qp is not None and st.qp.elastic and np.max(problem.nonlinear.violation(st.pt.c), initial=0.0) > 0:
             return Status.INFEASIBLE
         return Status.SMALL_STEP
+    if st.qp is not None and st.qp.elastic and _kkt(problem, st).feasibility > 1e-6:
+        # the linearisation is inconsistent here and no step along the elastic direction reduces the merit: a
+        # (local) minimiser of the violation, not a derivative or scaling problem
+        return Status.INFEASIBLE
     return Status.LINE_SEARCH
 
 

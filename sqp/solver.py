@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -152,6 +152,12 @@ def _initial_hessian(hess0: Any, n: int) -> Any:
     return H
 
 
+#: A solve ends without a confirming QP when the last QP's multipliers pass the KKT test at the new point with
+#: ``CONFIRMED_TOLERANCE * tol`` (at ``tol`` itself it would stop one Newton step earlier than the confirming QP's
+#: test and leave a residual near ``tol`` where that step would square it).
+CONFIRMED_TOLERANCE = 1e-2
+
+
 @dataclass
 class _State:
     """The handful of values carried from one iteration to the next."""
@@ -194,10 +200,13 @@ def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array
         if exact:  # the exact Lagrangian Hessian at (x_k, lam_{k-1}), made positive definite
             lam_prev = st.qp.lam_nl if st.qp is not None else (
                 np.zeros(problem.nonlinear.lb.size) if lam0 is None else lam0)
+            al_rows = _al_rows(problem, lam_prev)
             st.B, shift, al_weight = convexify(ev.lagrangian_hessian(st.pt.x, lam_prev), shift,
-                                               _equality_rows(problem, st.der.J, lam_prev), al_weight)
+                                               _equality_rows(problem, st.der.J, al_rows), al_weight)
         # the QP subproblem (Eqs. 9–10), elastic when its linearisation is inconsistent
         qp, rho = _subproblem(problem, options, st, rho)
+        if exact and al_weight > 0.0 and qp.found and not qp.elastic:
+            qp = _newton_multipliers(problem, st, qp, al_rows, al_weight)
         if not qp.found:
             eye = sp.identity(problem.n, format="csc") if sp.issparse(st.B) else np.eye(problem.n)
             st.B = eye * max(1.0, float(np.mean(np.abs(st.B.diagonal()))))
@@ -267,6 +276,13 @@ def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array
             except StopIteration:
                 status = Status.CALLBACK
                 break
+        # the QP's multipliers are those of the new point to second order near a solution (Newton–SQP): when they
+        # already satisfy the KKT test there with a wide margin, and every row they load is active there, the next
+        # Hessian and QP would only confirm it
+        early = CONFIRMED_TOLERANCE * options.tol
+        if _kkt(problem, st).satisfied(early) and _loaded_rows_active(problem, st, early):
+            status = Status.SUCCESS
+            break
     return _result(problem, ev, st.pt, st.der, st.qp, status, history, t_start, B=st.B, nit=len(history))
 
 
@@ -318,10 +334,32 @@ def _subproblem(problem: Problem, options: Options, st: _State, rho: float) -> t
         rho = min(MAX_ELASTIC_PENALTY, 10.0 * rho)
 
 
-def _equality_rows(problem: Problem, J: Any, lam: Array) -> Any:
-    """Rows the QP keeps as equalities: nonlinear equalities, inequalities with a nonzero multiplier, linear
-    equalities (for the augmented-Lagrangian convexification of an exact Hessian)."""
-    rows = np.union1d(problem.nonlinear.eq, np.flatnonzero(lam))
+def _al_rows(problem: Problem, lam: Array) -> Array:
+    """Nonlinear rows the QP keeps as equalities: the equalities and the inequalities with a nonzero multiplier."""
+    return np.union1d(problem.nonlinear.eq, np.flatnonzero(lam))
+
+
+def _newton_multipliers(problem: Problem, st: _State, qp: QPStep, rows: Array, weight: float) -> QPStep:
+    """The QP's multipliers with the augmented-Lagrangian term of :func:`~sqp.hessian.convexify` moved back into them.
+
+    With ``B = W + weight C^T C`` the QP's stationarity ``B d + g - J^T lam - A^T lam_lin - z = 0`` is
+    ``W d + g - J^T lam' - A^T lam_lin' - z = 0`` for ``lam' = lam - weight (C d)`` on the rows of ``C``: the step is
+    Newton's and so are these multipliers, whereas ``lam`` itself is off by ``weight`` times the residual of those
+    rows. (Near a solution the corrected ones are exact to second order, so the KKT test can use them at the new
+    point.)"""
+    lam_nl = qp.lam_nl.copy()
+    if rows.size:
+        lam_nl[rows] -= weight * np.asarray(st.der.J[rows] @ qp.d).ravel()
+    lam_lin = qp.lam_lin.copy()
+    eq = problem.linear.eq
+    if eq.size:
+        lam_lin[eq] -= weight * np.asarray(problem.A[eq] @ qp.d).ravel()
+    return replace(qp, lam_nl=lam_nl, lam_lin=lam_lin)
+
+
+def _equality_rows(problem: Problem, J: Any, rows: Array) -> Any:
+    """The rows ``C`` of the augmented-Lagrangian convexification of an exact Hessian: the nonlinear ``rows``
+    (:func:`_al_rows`) and the linear equalities."""
     parts = [J[rows]] if rows.size else []
     if problem.linear.eq.size:
         parts.append(problem.A[problem.linear.eq])
@@ -336,6 +374,25 @@ def _kkt(problem: Problem, st: _State) -> KKTResiduals:
     qp = st.qp
     assert qp is not None
     return kkt_residuals(problem, st.pt.x, st.der.g, st.pt.c, st.der.J, st.pt.r, qp.lam_nl, qp.lam_lin, qp.z)
+
+
+def _loaded_rows_active(problem: Problem, st: _State, tol: float) -> bool:
+    """Whether every inequality row and bound with a nonzero multiplier in ``st.qp`` is active at ``st.pt`` to within
+    the feasibility tolerance (so a solution reported with the last QP's multipliers has a contact force only where
+    there is contact, as the next QP's would)."""
+    qp = st.qp
+    assert qp is not None
+    x = st.pt.x
+    limit = tol * max(1.0, float(np.max(np.abs(x), initial=0.0)))
+    for rows, values, lam in ((problem.nonlinear, st.pt.c, qp.lam_nl), (problem.linear, st.pt.r, qp.lam_lin),
+                              (problem.bound_rows if problem.has_bounds else None, x, qp.z)):
+        if rows is None or lam.size == 0:
+            continue
+        with np.errstate(invalid="ignore"):
+            gap = np.where(lam > 0, values - rows.lb, np.where(lam < 0, rows.ub - values, 0.0))
+        if np.any(~(np.abs(gap) <= limit)):
+            return False
+    return True
 
 
 def _lagrangian_gradient(problem: Problem, der: Derivatives, qp: QPStep) -> Array:

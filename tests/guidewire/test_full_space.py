@@ -12,7 +12,7 @@ from scipy.optimize import LinearConstraint
 import sqp
 from guidewire import Base, Contact, Scene, Wall, Wire, paper_scenes
 from guidewire.formulation import wall_gaps
-from guidewire.full_space import formulate_full, solve_full
+from guidewire.full_space import POLISH_TOLERANCE, formulate_full, solve_full
 from guidewire.result import build_solution
 from guidewire.solve import solve
 from sqp.hessian import convexify
@@ -90,10 +90,13 @@ def test_same_answer_as_reduced(name, scheme):
     full, res, sol, ref = _pair(name, scheme)
     assert res.success and ref.success and sol.success
     assert res.nit <= 8
-    assert sol.energy == pytest.approx(ref.energy, rel=1e-9)
+    # both stop at a KKT residual of tol = 1e-8; a contact is then met to within tol·L = 1e-6 mm (the full space's
+    # closure residuals add up along the chain below the polish threshold 1e-9·L = 1e-7 mm; measured 4.9e-8 mm on
+    # Table 1 second order, < 3e-10 mm on the others) and the energy to ~λ·violation
+    assert sol.energy == pytest.approx(ref.energy, rel=1e-8)
     assert np.max(np.abs(sol.nodes - ref.nodes)) < 1e-6
     assert np.max(np.abs(full.nodes(res.x) - sol.nodes)) < 1e-6  # the variables' nodes: the chain's nodes, to tol
-    assert sol.max_violation < 1e-9
+    assert sol.max_violation < POLISH_TOLERANCE * SCENES[name].wire.length
     force_scale = max(np.max(np.abs(r.force)) for r in ref.reactions if r.force is not None)
     moment_scale = max(abs(r.moment) for r in ref.reactions if r.moment is not None)
     for mine, theirs in zip(sol.reactions, ref.reactions, strict=True):
@@ -137,7 +140,7 @@ def test_sparse_path_and_solve_full():
         sol = solve_full(scene, bars=120)
         ref = solve(scene, bars=120, formulation="reduced")
         assert sol.success and sol.iterations <= 8
-        assert sol.energy == pytest.approx(ref.energy, rel=1e-9)
+        assert sol.energy == pytest.approx(ref.energy, rel=1e-8)
         assert np.max(np.abs(sol.nodes - ref.nodes)) < node_tol
         assert sol.result.full_x.size == 3 * 120
     full = formulate_full(SCENES["table1_pi_4"], bars=120)

@@ -256,3 +256,48 @@ def test_multipliers0_warm_start_and_its_shape_check():
     assert warm.nit <= 3
     with pytest.raises(ValueError, match="multipliers0"):
         sqp.minimize(f, [0.0, -1.0], g, constraints=[con], hess=H, multipliers0=[np.zeros(3)])
+
+
+def test_newton_multipliers_undo_the_augmented_lagrangian_term():
+    """With ``B = W + rho C^T C`` (``W`` indefinite) the QP solves ``B d + g - J^T lam = 0``; the corrected
+    multipliers solve ``W d + g - J^T lam' = 0``: the step's own Newton multipliers, used by the KKT test."""
+    from sqp.hessian import convexify
+    from sqp.iterate import Evaluator
+    from sqp.options import Options
+    from sqp.problem import build_problem
+    from sqp.solver import _al_rows, _equality_rows, _newton_multipliers, _State, _subproblem
+
+    con = {"type": "eq", "fun": lambda x: np.array([x @ x - 2]), "jac": lambda x: 2 * x[None, :],
+           "hess": lambda x, v: 2 * v[0] * np.eye(2)}
+    problem = build_problem(lambda x: x[0] * x[1], [1.2, -0.7], lambda x: np.array([x[1], x[0]]), None, [con], (),
+                            lambda x: np.array([[0.0, 1.0], [1.0, 0.0]]))
+    ev = Evaluator(problem)
+    pt = ev.point(problem.x0)
+    der = ev.derivatives(pt)
+    lam = np.array([0.3])
+    W = ev.lagrangian_hessian(pt.x, lam)
+    assert np.linalg.eigvalsh(W)[0] < 0  # indefinite: the term is needed
+    rows = _al_rows(problem, lam)
+    B, delta, rho = convexify(W, 0.0, _equality_rows(problem, der.J, rows), 0.0)
+    assert delta == 0.0 and rho > 0.0
+    st = _State(pt=pt, der=der, B=B, mu=np.zeros(1))
+    qp, _ = _subproblem(problem, Options(), st, 0.0)
+    assert qp.found and not qp.elastic
+    np.testing.assert_allclose(B @ qp.d + der.g - der.J.T @ qp.lam_nl, 0.0, atol=1e-10)
+    fixed = _newton_multipliers(problem, st, qp, rows, rho)
+    np.testing.assert_allclose(W @ qp.d + der.g - der.J.T @ fixed.lam_nl, 0.0, atol=1e-10)
+    assert abs(fixed.lam_nl[0] - qp.lam_nl[0]) > 1e-3  # a real correction, not a no-op
+
+
+def test_newton_sqp_ends_without_a_confirming_qp_when_the_step_already_converged():
+    """Near a solution the last QP's multipliers pass the KKT test at the new point with the wide margin: the
+    solve stops there (one Hessian per iteration, not one more) with residuals far below tol."""
+    con = {"type": "eq", "fun": lambda x: np.array([x @ x - 1]), "jac": lambda x: 2 * x[None, :],
+           "hess": lambda x, v: 2 * v[0] * np.eye(2)}
+    f, g, H = (lambda x: x[0] + 2 * x[1]), (lambda x: np.array([1.0, 2.0])), (lambda x: np.zeros((2, 2)))
+    exact = -np.array([1.0, 2.0]) / np.sqrt(5.0)
+    res = sqp.minimize(f, exact + 1e-4, g, constraints=[con], hess=H, multipliers0=[np.array([-np.sqrt(5) / 2])])
+    assert res.success and res.nit <= 3
+    assert res.nhev == res.nit  # no confirming Hessian (and QP) after the last step
+    assert max(res.kkt.values()) <= 1e-10
+    np.testing.assert_allclose(res.x, exact, atol=1e-12)

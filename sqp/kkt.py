@@ -60,31 +60,34 @@ def lagrangian_gradient(g: Array, J: Array, lam_nl: Array, A: Array, lam_lin: Ar
 
 def max_violation(problem: Problem, x: Array, c: Array, r: Array) -> float:
     """Largest absolute violation of the nonlinear rows, the linear rows and the bounds."""
-    v = max(
-        float(np.max(problem.nonlinear.violation(c), initial=0.0)),
-        float(np.max(problem.linear.violation(r), initial=0.0)),
-        float(np.max(np.maximum(problem.lower - x, 0.0), initial=0.0)),
-        float(np.max(np.maximum(x - problem.upper, 0.0), initial=0.0)),
-    )
+    v = 0.0
+    if c.size:
+        v = float(np.max(problem.nonlinear.violation(c)))
+    if r.size:
+        v = max(v, float(np.max(problem.linear.violation(r))))
+    if problem.has_bounds:
+        v = max(v, float(np.max(np.maximum(problem.lower - x, 0.0))), float(np.max(np.maximum(x - problem.upper, 0.0))))
     return v
 
 
 def _complementarity(rows: Rows, values: Array, lam: Array) -> float:
-    """``max |lam| * distance-to-the-side`` and wrong-sign multipliers for rows ``lb <= values <= ub``."""
-    if lam.size == 0:
+    """``max |lam| * distance-to-the-side`` over inequality rows ``lb <= values <= ub``, and the size of any
+    multiplier of the wrong sign (a positive multiplier belongs to the lower side, a negative one to the upper side;
+    one on a side that does not exist is wrong)."""
+    if lam.size == 0 or rows.eq.size == lam.size:
         return 0.0
-    ineq = np.ones(lam.size, dtype=bool)
-    ineq[rows.eq] = False
-    with np.errstate(invalid="ignore"):
-        slack_lo = np.where(np.isfinite(rows.lb), values - rows.lb, np.inf)
-        slack_hi = np.where(np.isfinite(rows.ub), rows.ub - values, np.inf)
-    pos = np.maximum(lam, 0.0)
-    neg = np.maximum(-lam, 0.0)
-    # a positive multiplier belongs to the lower side, a negative one to the upper side
-    comp = np.where(pos > 0, pos * np.abs(np.minimum(slack_lo, 1e300)), 0.0) + np.where(
-        neg > 0, neg * np.abs(np.minimum(slack_hi, 1e300)), 0.0)
-    wrong = np.where(np.isfinite(rows.lb), 0.0, pos) + np.where(np.isfinite(rows.ub), 0.0, neg)
-    return float(np.max(np.where(ineq, np.maximum(comp, wrong), 0.0), initial=0.0))
+    out = 0.0
+    lo, up = rows.lower, rows.upper
+    if lo.size:
+        out = float(np.max(np.maximum(lam[lo], 0.0) * np.abs(values[lo] - rows.lb[lo])))
+    if up.size:
+        out = max(out, float(np.max(np.maximum(-lam[up], 0.0) * np.abs(rows.ub[up] - values[up]))))
+    no_lo, no_up = rows.inequality_without_lower, rows.inequality_without_upper
+    if no_lo.size:
+        out = max(out, float(np.max(lam[no_lo])))
+    if no_up.size:
+        out = max(out, float(np.max(-lam[no_up])))
+    return out
 
 
 def kkt_residuals(

@@ -58,6 +58,16 @@ class Rows:
             upper=np.flatnonzero(~is_eq & np.isfinite(ub)),
         )
 
+    @cached_property
+    def inequality_without_lower(self) -> NDArray[np.intp]:
+        """Inequality rows with no finite lower side (a positive multiplier there has the wrong sign)."""
+        return np.flatnonzero((self.lb != self.ub) & ~np.isfinite(self.lb))
+
+    @cached_property
+    def inequality_without_upper(self) -> NDArray[np.intp]:
+        """Inequality rows with no finite upper side (a negative multiplier there has the wrong sign)."""
+        return np.flatnonzero((self.lb != self.ub) & ~np.isfinite(self.ub))
+
     def violation(self, r: Array) -> Array:
         """Row-wise violation ``max(lb - r, r - ub, 0)`` (``|r - lb|`` for equalities)."""
         with np.errstate(invalid="ignore"):
@@ -104,7 +114,7 @@ class Problem:
         """The bounds as rows ``lower <= x <= upper``."""
         return Rows.from_bounds(self.lower, self.upper)
 
-    @property
+    @cached_property
     def has_bounds(self) -> bool:
         return bool(np.any(np.isfinite(self.lower)) or np.any(np.isfinite(self.upper)))
 

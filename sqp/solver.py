@@ -81,6 +81,7 @@ def minimize(
     hess0 : array_like, shape (n, n), optional
         Initial Lagrangian Hessian approximation (e.g. the objective's known Hessian); symmetric, positive
         semidefinite (shifted to positive definite if needed). Default: identity, rescaled after the first step.
+        Not used when ``hess`` is given (only its shape is checked then).
     multipliers0 : sequence of arrays, optional
         Starting multipliers, one array per constraint (e.g. ``res.constraint_multipliers`` of a neighbouring
         solve): the first exact Lagrangian Hessian and the first merit penalties use them (a warm start).
@@ -113,7 +114,12 @@ def minimize(
     options = Options(tol=tol, max_iter=max_iter, qp_solver=qp_solver, qp_options=dict(qp_options or {}),
                       callback=callback, verbose=verbose)
     problem = build_problem(fun, x0, jac, bounds, constraints, args, hess)
-    B0 = _initial_hessian(hess0, problem.n)
+    if problem.hess is not None and hess0 is not None:  # exact Hessians replace it: check the shape only
+        if np.shape(hess0) != (problem.n, problem.n):
+            raise ValueError(f"hess0 has shape {np.shape(hess0)}; expected ({problem.n}, {problem.n}).")
+        B0 = None
+    else:
+        B0 = _initial_hessian(hess0, problem.n)
     lam0 = None if multipliers0 is None else problem.stack_nonlinear_multipliers(multipliers0)
     return run(problem, options, B0, lam0)
 

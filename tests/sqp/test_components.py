@@ -301,3 +301,15 @@ def test_newton_sqp_ends_without_a_confirming_qp_when_the_step_already_converged
     assert res.nhev == res.nit  # no confirming Hessian (and QP) after the last step
     assert max(res.kkt.values()) <= 1e-10
     np.testing.assert_allclose(res.x, exact, atol=1e-12)
+
+
+def test_hess0_with_exact_hessians_is_shape_checked_only():
+    """With ``hess`` given, ``hess0`` is not used (exact Hessians replace it): a wrong shape is still an error
+    before any solve, an indefinite one is not."""
+    f, g, H = (lambda x: float(x @ x)), (lambda x: 2 * x), (lambda x: 2 * np.eye(2))
+    with pytest.raises(ValueError, match="hess0 has shape"):
+        sqp.minimize(f, [1.0, 2.0], g, hess=H, hess0=np.eye(3))
+    res = sqp.minimize(f, [1.0, 2.0], g, hess=H, hess0=-np.eye(2))
+    assert res.success and np.allclose(res.x, 0.0, atol=1e-12)
+    with pytest.raises(ValueError, match="negative eigenvalue"):  # without hess it is the BFGS start: checked
+        sqp.minimize(f, [1.0, 2.0], g, hess0=-np.eye(2))

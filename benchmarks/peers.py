@@ -50,7 +50,7 @@ from threadpoolctl import threadpool_limits  # noqa: E402
 
 import guidewire  # noqa: E402
 
-BARS = (25, 50, 100, 200, 400, 800, 1600)
+BARS = (25, 50, 100, 200, 400, 800, 1600, 3200)
 QUICK_BARS = (25, 100)
 QUICK_SCENES = ("table1_pi_4", "fig6b", "table4")
 #: Bars of the straight-start group (full run / quick).
@@ -353,6 +353,7 @@ def write(rows: list[dict[str, Any]], solvers: list[str], bars: tuple[int, ...],
     lines += C.markdown_table(header, body)
     lines += ["", "## Headline: ours against the fastest peer that solved, per problem", ""]
     lines += _headline(main_rows, bars)
+    lines += _growth(main_rows, bars)
     lines += ["", "## Time per scene (elastica start)", "",
               "Cell: median time, ×ours; flags: F = solver reported failure, B = other (higher) branch, "
               "~ = same branch but energy off by 1e-6..1e-3, I = infeasible answer; *stopped* = one solve passed "
@@ -444,6 +445,30 @@ def _headline(rows: list[dict[str, Any]], bars: tuple[int, ...]) -> list[str]:
                      f"{float(np.exp(np.mean(np.log(ratios)))):.2g}", f"{min(ratios):.2g}", names])
     return C.markdown_table(["n", "problems (ours and a peer solved)", "ours sgm (ms)", "fastest peer sgm (ms)",
                              "peer/ours (geo. mean)", "peer/ours (worst)", "fastest peer"], body)
+
+
+def _growth(rows: list[dict[str, Any]], bars: tuple[int, ...]) -> list[str]:
+    """Cost growth of ours from n = 100 to the largest n: the exponent ``p`` of ``time ∝ n^p`` per scene (solved at
+    both ends), and of the sgm over the scenes solved at both."""
+    lo, hi = 100, max(bars)
+    if lo not in bars or hi <= lo:
+        return []
+    pairs = []
+    for scene in dict.fromkeys(r["scene"] for r in rows):
+        a = next((r for r in rows if r["scene"] == scene and r["n"] == lo and r["solver"] == "ours" and r["solved"]),
+                 None)
+        b = next((r for r in rows if r["scene"] == scene and r["n"] == hi and r["solver"] == "ours" and r["solved"]),
+                 None)
+        if a is not None and b is not None:
+            pairs.append((scene, a["time_s"], b["time_s"]))
+    if not pairs:
+        return []
+    k = math.log(hi / lo)
+    per = [math.log(t1 / t0) / k for _, t0, t1 in pairs]
+    whole = math.log(C.sgm([p[2] for p in pairs]) / C.sgm([p[1] for p in pairs])) / k
+    worst = max(zip(per, (p[0] for p in pairs), strict=True))
+    return ["", f"Cost growth of ours from n = {lo} to n = {hi} ({len(pairs)} scenes solved at both): sgm time ∝ "
+            f"n^{whole:.2f}; per scene n^{min(per):.2f} … n^{worst[0]:.2f} ({worst[1]})."]
 
 
 def plot(rows: list[dict[str, Any]], solvers: list[str], bars: tuple[int, ...], path: Path) -> None:

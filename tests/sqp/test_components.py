@@ -73,6 +73,39 @@ def test_elastic_qp_solves_an_inconsistent_linearisation():
     np.testing.assert_allclose(res.x, -np.sqrt(0.5) * np.ones(2), atol=1e-7)
 
 
+def test_equality_only_qp_is_solved_directly_and_matches_the_backends():
+    import qpsolvers
+
+    rng = np.random.default_rng(3)
+    n, m = 30, 4
+    R = rng.standard_normal((n, n))
+    B, g = R @ R.T + n * np.eye(n), rng.standard_normal(n)
+    J, c = rng.standard_normal((m, n)), rng.standard_normal(m)
+    rows = Rows.from_bounds(np.zeros(m), np.zeros(m))
+    lin = linearise(np.zeros((0, n)), np.zeros(0), Rows.from_bounds(np.zeros(0), np.zeros(0)))
+    box = np.full(n, np.inf)
+    step = solve_subproblem(B, g, linearise(J, c, rows), lin, -box, box, backends=[("osqp", {})])
+    assert step.found and step.status == "kkt"  # no backend asked (OSQP at its defaults would be far less exact)
+    ref = qpsolvers.solve_problem(qpsolvers.Problem(B, g, A=J, b=-c), solver="daqp")
+    np.testing.assert_allclose(step.d, ref.x, atol=1e-10)
+    np.testing.assert_allclose(step.lam_nl, -ref.y, atol=1e-9)  # engine convention: grad f = J^T lam
+    np.testing.assert_allclose(B @ step.d + g, J.T @ step.lam_nl, atol=1e-9)
+    # a repeated row makes the KKT matrix singular: whichever path answers, the step is the same and the
+    # multipliers (no longer unique) still satisfy stationarity
+    J2, c2 = np.vstack([J, J[:1]]), np.concatenate([c, c[:1]])
+    rows2 = Rows.from_bounds(np.zeros(m + 1), np.zeros(m + 1))
+    step2 = solve_subproblem(B, g, linearise(J2, c2, rows2), lin, -box, box,
+                             backends=[("daqp", DEFAULT_QP_OPTIONS["daqp"]), ("piqp", DEFAULT_QP_OPTIONS["piqp"])])
+    assert step2.found
+    np.testing.assert_allclose(step2.d, ref.x, atol=1e-6)
+    np.testing.assert_allclose(B @ step2.d + g, J2.T @ step2.lam_nl, atol=1e-6)
+    # inconsistent equalities (the same row asking for two values): no step, and no crash
+    c3 = np.concatenate([c, c[:1] + 1.0])
+    step3 = solve_subproblem(B, g, linearise(J2, c3, rows2), lin, -box, box,
+                             backends=[("daqp", DEFAULT_QP_OPTIONS["daqp"])])
+    assert not step3.found
+
+
 def test_sparse_elastic_qp_matches_the_dense_one():
     """A sparse model Hessian keeps the elastic QP sparse (PIQP's sparse backend), with the dense QP's answer."""
     import scipy.sparse as sp

@@ -202,6 +202,7 @@ def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array
     status = Status.MAX_ITER
     rho = 0.0
     stalled = 0
+    best: tuple[KKTResiduals, QPStep] | None = None
     for nit in range(options.max_iter + 1):
         if exact:  # the exact Lagrangian Hessian at (x_k, lam_{k-1}), made positive definite
             lam_prev = st.qp.lam_nl if st.qp is not None else (
@@ -222,6 +223,8 @@ def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array
                 break
         st.qp = qp
         kkt = _kkt(problem, st)
+        if stalled == 0 or best is None or kkt.worst < best[0].worst:  # best multipliers at this (stalled) point
+            best = (kkt, qp)
         if kkt.satisfied(options.tol):
             status = Status.SUCCESS
             break
@@ -249,9 +252,13 @@ def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array
             stalled = 0
         if search is None or stalled >= STALL_ITERATIONS:
             status = _stalled_status(problem, st, d) if search is None else Status.SMALL_STEP
-            if kkt.feasible(options.tol) and max(kkt.stationarity, kkt.complementarity) <= max(
+            # (the multiplier estimates of the QPs solved while x stood still all belong to this point: the best one
+            # decides; rounding makes them scatter around the limit on ill-conditioned problems such as HS116)
+            assert best is not None
+            kkt_best, qp_best = best
+            if kkt_best.feasible(options.tol) and max(kkt_best.stationarity, kkt_best.complementarity) <= max(
                     ACCEPTABLE_TOL, options.tol):
-                status = Status.ACCEPTABLE
+                status, st.qp = Status.ACCEPTABLE, qp_best
             break
         new_pt, alpha, soc = search
         new_der = ev.derivatives(new_pt)

@@ -91,29 +91,26 @@ def _segment_curves(
         ``∫ θ'² ds`` of each curve (1/mm), the bending energy over ``EI/2``.
     """
     u = (np.arange(CURVE_SAMPLES) + 0.5) / CURVE_SAMPLES  # midpoints, s = u ℓ
-    basis = np.column_stack((np.sin(np.pi * u), np.sin(2.0 * np.pi * u)))  # (M, 2)
-    line = a0 + (a1 - a0) * u
+    basis = np.stack((np.sin(np.pi * u), np.sin(2.0 * np.pi * u)))  # (2, M)
+    # one matrix product gives the means of (cos θ, sin θ) and their derivatives in c: columns mean, d/dc₁, d/dc₂
+    weights = np.column_stack((np.ones(CURVE_SAMPLES), basis.T)) / CURVE_SAMPLES  # (M, 3)
+    phase = (a0 + (a1 - a0) * u) - np.array([0.0, 0.5 * np.pi])[:, None, None]  # cos(θ − π/2) = sin θ
     grid = np.linspace(-NEWTON_GRID, NEWTON_GRID, NEWTON_GRID_POINTS)
     c = np.stack(np.meshgrid(grid, grid, indexing="ij"), axis=-1).reshape(-1, 2)  # (G, 2)
-    target = (p1 - p0) / length
-    basis_t = basis.T / CURVE_SAMPLES
+    tx, ty = (p1 - p0) / length
     for _ in range(NEWTON_STEPS):
-        theta = line + c @ basis.T  # (G, M)
-        cos, sin = np.cos(theta), np.sin(theta)
-        rx = cos.mean(axis=1) - target[0]  # end-point miss / ℓ
-        ry = sin.mean(axis=1) - target[1]
-        a, b = (-sin @ basis_t.T).T  # Jacobian rows d(rx)/dc, d(ry)/dc: [[a1, a2], [b1, b2]]
-        d1, d2 = (cos @ basis_t.T).T
+        m = np.cos(phase + c @ basis) @ weights  # (2, G, 3): [cos, sin] × [mean, d/dc₁ (of θ), d/dc₂]
+        rx, ry = m[0, :, 0] - tx, m[1, :, 0] - ty  # end-point miss / ℓ
+        a, b, d1, d2 = -m[1, :, 1], -m[1, :, 2], m[0, :, 1], m[0, :, 2]  # Jacobian [[a, b], [d1, d2]] of (rx, ry)
         det = a * d2 - b * d1
-        ok = np.abs(det) > 1e-12
-        inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
-        step = np.column_stack(((-rx * d2 + ry * b) * inv, (-ry * a + rx * d1) * inv))  # 2x2 solve
+        inv = np.divide(1.0, det, out=np.zeros_like(det), where=np.abs(det) > 1e-12)
+        step = np.column_stack(((b * ry - d2 * rx) * inv, (d1 * rx - a * ry) * inv))  # the 2x2 Newton solve
         size = np.abs(step).max(axis=1)
-        c = c + step * np.minimum(1.0, 1.0 / np.maximum(size, 1e-300))[:, None]  # |Δc| ≤ 1
+        c += step * np.minimum(1.0, 1.0 / np.maximum(size, 1e-300))[:, None]  # |Δc| ≤ 1
         if size.max() <= 1e-13:
             break
-    theta = line + c @ basis.T
-    miss = np.hypot(np.cos(theta).mean(axis=1) - target[0], np.sin(theta).mean(axis=1) - target[1]) * length
+    m = np.cos(phase + c @ basis) @ weights
+    miss = np.hypot(m[0, :, 0] - tx, m[1, :, 0] - ty) * length
     slope = (a1 - a0) + np.pi * c[:, :1] * np.cos(np.pi * u) + 2.0 * np.pi * c[:, 1:] * np.cos(2.0 * np.pi * u)
     energy = np.mean(slope**2, axis=1) / length  # ∫ (dθ/ds)² ds
     return c, miss, energy

@@ -77,7 +77,7 @@ def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0) -> tu
        of ``C`` (second-order sufficiency), while ``W`` alone may be indefinite — a wire under compression is.
        ``rho`` starts at a quarter of the last value that worked, or ``1e-3 max|W_ii| / max|C^T C_ii|``, and grows
        tenfold (when sparse, where every test is a sparse factorisation, the last weight is kept rather than
-       quartered, and ``W`` is not tested alone again once it needed the term). Used when
+       quartered); ``W`` is not tested alone again once it needed the term. Used when
        ``W`` is dense or small (up to :data:`DENSE_LIMIT` variables a sparse ``W`` is made dense
        for it), and for a large sparse ``W`` when ``C`` is sparse and ``C^T C`` stays sparse (at most
        :data:`SPARSE_GRAM_DENSITY` nonzeros per variable; tested by the sparse LU below, O(n) when banded).
@@ -99,13 +99,13 @@ def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0) -> tu
     if sp.issparse(W) and n <= DENSE_LIMIT:
         W = W.toarray()
     is_sparse = sp.issparse(W)
-    # (a large sparse W that needed the augmented-Lagrangian term last time goes straight to it: each test is a
-    # sparse factorisation, and the term leaves the step unchanged)
-    if not (is_sparse and rho > 0.0) and _positive_definite(W, is_sparse):
+    # (a W that needed the augmented-Lagrangian term last time goes straight to it: the term leaves the step
+    # unchanged, and testing W alone again costs a factorisation per iteration)
+    CtC = _gram(C, is_sparse)
+    if not (rho > 0.0 and CtC is not None) and _positive_definite(W, is_sparse):
         return W, 0.0, 0.0
     diag = W.diagonal() if is_sparse else np.diag(W)
     scale = max(1.0, float(np.max(np.abs(diag), initial=0.0)))
-    CtC = _gram(C, is_sparse)
     if CtC is not None:
         base = float(np.max(CtC.diagonal(), initial=0.0))
         if base > 0.0:

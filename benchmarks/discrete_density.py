@@ -134,7 +134,8 @@ def main() -> None:
     env = C.environment()
     settings = (f"n/L ∈ {list(densities)} per mm at L = 100 mm; L ∈ {[int(v) for v in lengths]} mm at n/L = 1; "
                 f"schemes {', '.join(SCHEMES)}; solvers {', '.join(solvers)}; median of {repeats} repeat(s) (one run "
-                f"once a solve takes > {C.SINGLE_RUN_S:g} s); time limit {limit:g} s per solve, {a.budget:g} s of "
+                f"once a solve takes > {C.SINGLE_RUN_S:g} s; up to {C.FAST_REPEATS} while they take < "
+                f"{C.FAST_TOTAL_S:g} s in all); time limit {limit:g} s per solve, {a.budget:g} s of "
                 "solves per solver")
     print("\n".join(env + [settings]))
     hessian_note = C.peer_hessian_note(C.make_case(table1(), bars=20).form)

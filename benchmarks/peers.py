@@ -229,7 +229,8 @@ def main() -> None:
     env = C.environment()
     settings = (f"{len(scene_list)} scenes × n ∈ {list(bars)} (+ straight start at n = {straight_bars}); "
                 f"{len(solvers)} solvers: {', '.join(solvers)}; median of {repeats} repeat(s) (one run once a solve "
-                f"takes > {C.SINGLE_RUN_S:g} s); time limit {limit:g} s per solve, {a.budget:g} s of solves per peer "
+                f"takes > {C.SINGLE_RUN_S:g} s; up to {C.FAST_REPEATS} while they take < {C.FAST_TOTAL_S:g} s in "
+                f"all); time limit {limit:g} s per solve, {a.budget:g} s of solves per peer "
                 "on the wall scenes and again on the contact scenes")
     print("\n".join(env + [settings]))
     hessian_note = C.peer_hessian_note(C.make_case(scene_list[0], bars=bars[0]).form)

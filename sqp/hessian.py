@@ -101,9 +101,12 @@ def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0) -> tu
     is_sparse = sp.issparse(W)
     # (a W that needed the augmented-Lagrangian term last time goes straight to it: the term leaves the step
     # unchanged, and testing W alone again costs a factorisation per iteration)
-    CtC = _gram(C, is_sparse)
-    if not (rho > 0.0 and CtC is not None) and _positive_definite(W, is_sparse):
-        return W, 0.0, 0.0
+    CtC = _gram(C, is_sparse) if rho > 0.0 else None  # (no product on iterations where W alone will do)
+    if CtC is None:
+        if _positive_definite(W, is_sparse):
+            return W, 0.0, 0.0
+        if rho <= 0.0:
+            CtC = _gram(C, is_sparse)
     diag = W.diagonal() if is_sparse else np.diag(W)
     scale = max(1.0, float(np.max(np.abs(diag), initial=0.0)))
     if CtC is not None:

@@ -306,8 +306,9 @@ def _equality_qp(B: Any, g: Array, E: Any, e: Array, scale: float) -> tuple[Arra
 
     Any backend would return this same unique answer; the direct solve skips the backend's set-up (at 100 variables
     and a few rows: 0.1 ms against DAQP's 0.5 ms). Returns None, so that the backends are asked, when ``B`` or ``E``
-    is sparse (a large model: the sparse backends are faster there), when the system is singular (dependent rows),
-    or when the answer fails the same residual check as a backend's."""
+    is sparse (a large model: the sparse backends are faster there), when LU finds the system exactly singular, or
+    when the answer fails the same residual check as a backend's (dependent but consistent rows usually pass it:
+    the step is then still unique, the multipliers one valid choice)."""
     if sp.issparse(B) or sp.issparse(E):
         return None
     n, m = g.size, e.size

@@ -18,10 +18,6 @@ from typing import Any
 SCHEMES = ("second_order", "paper")
 """Discretisations of the bending energy; see :mod:`guidewire.formulation`."""
 
-FEASIBILITY_SLACK = 1e-9
-"""Relative slack (of the wire length between two points) allowed before two positions count as too far apart."""
-
-
 def _real(value: Any, name: str) -> float:
     """``value`` as a finite float, or a TypeError/ValueError naming ``name``."""
     if isinstance(value, bool) or not isinstance(value, int | float):
@@ -247,7 +243,12 @@ class Scene:
                     f"{contact.label(i)} has s = {_fmt(contact.s)}; contacts need 0 < s ≤ wire.length = "
                     f"{_fmt(self.wire.length)} (the base is s = 0; lengthen the wire or move the contact)."
                 )
-            if i and contact.s <= contacts[i - 1].s:
+            if i and contact.s == contacts[i - 1].s:
+                raise ValueError(
+                    f"{contacts[i - 1].label(i - 1)} and {contact.label(i)} are both at s = {_fmt(contact.s)}; give "
+                    "each arc length one contact (merge them: one contact may carry both a point and an angle)."
+                )
+            if i and contact.s < contacts[i - 1].s:
                 raise ValueError(
                     f"{contact.label(i)} has s = {_fmt(contact.s)} after {contacts[i - 1].label(i - 1)} at "
                     f"s = {_fmt(contacts[i - 1].s)}; list contacts by strictly increasing s."
@@ -274,35 +275,20 @@ class Scene:
     def infeasibility(self) -> str | None:
         """Why no wire shape can meet this scene, or None when nothing obvious forbids it.
 
-        Checked: consecutive prescribed positions (base and contacts with a point) no farther apart than the wire
-        between them, and the base and contact points inside every wall.
+        Necessary conditions only (:mod:`guidewire.feasibility`): prescribed positions within reach of the wire
+        between them, the base and contact points inside every wall, a taut stretch of wire straight along its chord,
+        prescribed angles within the turning ``b₂`` allows, and positions within reach of the scene's bars.
         """
-        points: list[tuple[str, float, tuple[float, float]]] = [(self.base.name or "base", 0.0, self.base.point)]
-        points += [(c.label(i), c.s, c.point) for i, c in enumerate(self.contacts) if c.point is not None]
-        for (name_a, s_a, p_a), (name_b, s_b, p_b) in zip(points, points[1:], strict=False):
-            distance = math.dist(p_a, p_b)
-            available = s_b - s_a
-            if distance > available * (1.0 + FEASIBILITY_SLACK):
-                return (
-                    f"{name_a} ({_fmt(p_a[0])}, {_fmt(p_a[1])}) at s = {_fmt(s_a)} and {name_b} "
-                    f"({_fmt(p_b[0])}, {_fmt(p_b[1])}) at s = {_fmt(s_b)} are {distance:.2f} mm apart with only "
-                    f"{available:.1f} mm of wire between them"
-                )
-        for j, wall in enumerate(self.walls):
-            for name, _, p in points:
-                if wall.signed_distance(p) > 1e-9 * max(1.0, abs(wall.offset)):
-                    return (
-                        f"{name} ({_fmt(p[0])}, {_fmt(p[1])}) lies outside wall {j + 1} "
-                        f"({_fmt(wall.normal[0])}·x + {_fmt(wall.normal[1])}·y ≤ {_fmt(wall.offset)})"
-                    )
-        return None
+        from .feasibility import infeasibility
+
+        return infeasibility(self)
 
     def check_feasible(self) -> None:
         """Raise ``ValueError`` with the reason when :meth:`infeasibility` finds one."""
         reason = self.infeasibility()
         if reason is not None:
             label = f"scene {self.name!r}" if self.name else "scene"
-            raise ValueError(f"{label} is infeasible: {reason}. Move a contact or lengthen the wire between them.")
+            raise ValueError(f"{label} is infeasible: {reason}.")
 
     # ----------------------------------------------------------------------------------------------------------
     def with_bars(self, bars: int) -> Scene:
@@ -331,3 +317,29 @@ class Scene:
         walls = tuple(Wall((w.normal[0], -w.normal[1]), w.offset) for w in self.walls)
         name = f"{self.name} (mirrored)" if self.name else ""
         return replace(self, base=base, contacts=contacts, walls=walls, name=name)
+
+    def rotated(self, angle: float, center: tuple[float, float] = (0.0, 0.0)) -> Scene:
+        """The scene turned counter-clockwise by ``angle`` (rad) about ``center``: points rotate, tangent angles
+        gain ``angle``, wall normals rotate and wall offsets follow the moved boundary."""
+        angle = _real(angle, "angle")
+        cx, cy = _point(center, "center")
+        c, s = math.cos(angle), math.sin(angle)
+
+        def turn(p: tuple[float, float] | None) -> tuple[float, float] | None:
+            if p is None:
+                return None
+            dx, dy = p[0] - cx, p[1] - cy
+            return (cx + c * dx - s * dy, cy + s * dx + c * dy)
+
+        def add(a: float | None) -> float | None:
+            return None if a is None else a + angle
+
+        base = replace(self.base, point=turn(self.base.point), angle=add(self.base.angle))
+        contacts = tuple(replace(k, point=turn(k.point), angle=add(k.angle)) for k in self.contacts)
+        walls = []
+        for w in self.walls:  # a·p ≤ b  →  (R a)·p' ≤ b + (R a)·center − a·center
+            a = (c * w.normal[0] - s * w.normal[1], s * w.normal[0] + c * w.normal[1])
+            shift = a[0] * cx + a[1] * cy - (w.normal[0] * cx + w.normal[1] * cy)
+            walls.append(Wall(a, w.offset + shift))
+        name = f"{self.name} (rotated)" if self.name else ""
+        return replace(self, base=base, contacts=contacts, walls=tuple(walls), name=name)

@@ -30,6 +30,7 @@ The format::
 
 from __future__ import annotations
 
+import difflib
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
@@ -44,16 +45,40 @@ _CONTACT_KEYS = {"s", "point", "angle", "name"}
 _WALL_KEYS = {"normal", "offset"}
 
 
+_EXAMPLES = {
+    "wire": "length = 100.0 (mm)",
+    "bars": "bars = 100",
+    "length": "length = 100.0 (mm)",
+    "base": "[base] with point = [0.0, 0.0]",
+    "point": "point = [0.0, 0.0] (mm)",
+    "s": "s = 100.0 (mm, arc length from the base)",
+    "normal": "normal = [1.0, 0.0]",
+    "offset": "offset = 45.0 (mm)",
+}
+
+
+def _unknown_key(key: str, where: str, allowed: set[str]) -> str:
+    close = difflib.get_close_matches(key, sorted(allowed), n=1, cutoff=0.6)
+    hint = f"did you mean {close[0]!r}? " if close else ""
+    return f"[{where}] has unknown key {key!r}; {hint}allowed keys: {', '.join(sorted(allowed))}."
+
+
 def _table(data: Any, where: str, allowed: set[str], required: tuple[str, ...]) -> Mapping[str, Any]:
     """Check one TOML table: a mapping with only ``allowed`` keys and all ``required`` ones."""
     if not isinstance(data, Mapping):
         raise ValueError(f"[{where}] is {type(data).__name__}; expected a table.")
     unknown = sorted(set(data) - allowed)
     if unknown:
-        raise ValueError(f"[{where}] has unknown key(s) {', '.join(unknown)}; allowed: {', '.join(sorted(allowed))}.")
+        raise ValueError(_unknown_key(unknown[0], where, allowed))
     missing = [key for key in required if key not in data]
     if missing:
-        raise ValueError(f"[{where}] is missing {', '.join(missing)}.")
+        key = missing[0]
+        example = _EXAMPLES.get(key, f"{key} = ...")
+        table = "the top level" if where == "scene file" else f"[{where}]"
+        raise ValueError(f"{table} is missing the required key {key!r}; add it, e.g. {example}.")
+    for key in ("name", "notes"):
+        if key in data and not isinstance(data[key], str):
+            raise ValueError(f"[{where}] {key} is {data[key]!r}; expected a string in quotes.")
     return data
 
 
@@ -68,14 +93,21 @@ def scene_from_dict(data: Mapping[str, Any], *, name: str = "") -> Scene:
         raise ValueError("contact must be an array of tables: write [[contact]] (double brackets).")
     if not isinstance(wall_list, list):
         raise ValueError("wall must be an array of tables: write [[wall]] (double brackets).")
-    contacts = tuple(
-        Contact(**_table(c, f"contact {i + 1}", _CONTACT_KEYS, ("s",))) for i, c in enumerate(contact_list)
-    )
-    walls = tuple(Wall(**_table(w, f"wall {i + 1}", _WALL_KEYS, ("normal", "offset"))) for i, w in enumerate(wall_list))
+    contacts = tuple(_item(Contact, c, f"contact {i + 1}", _CONTACT_KEYS, ("s",)) for i, c in enumerate(contact_list))
+    walls = tuple(_item(Wall, w, f"wall {i + 1}", _WALL_KEYS, ("normal", "offset")) for i, w in enumerate(wall_list))
     return Scene(
         wire=wire, base=base, contacts=contacts, walls=walls, name=str(top.get("name", name)),
         notes=str(top.get("notes", "")),
     )
+
+
+def _item(cls: Any, data: Any, where: str, allowed: set[str], required: tuple[str, ...]) -> Any:
+    """One ``[[contact]]``/``[[wall]]`` entry; a bad value's message says which entry (``contact 2``)."""
+    table = _table(data, where, allowed, required)
+    try:
+        return cls(**table)
+    except (TypeError, ValueError) as exc:
+        raise type(exc)(f"[[{where.split()[0]}]] number {where.split()[1]}: {exc}") from None
 
 
 def load_scene(path: str | Path) -> Scene:
@@ -104,6 +136,8 @@ def load_scene(path: str | Path) -> Scene:
             data = tomllib.load(handle)
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{path} is not valid TOML: {exc}") from None
+    except UnicodeDecodeError:
+        raise ValueError(f"{path} is not valid TOML: it is not UTF-8 text.") from None
     try:
         return scene_from_dict(data, name=path.stem)
     except TypeError as exc:

@@ -1,0 +1,212 @@
+"""Why a scene cannot be met, found before any solve (:meth:`guidewire.Scene.infeasibility`).
+
+Each check is a *necessary* condition for a wire shape to exist, so a scene it rejects has no solution; a scene it
+passes may still be infeasible in a way only the solver can tell (then the solve ends with a non-success status).
+
+Continuum checks (any discretisation):
+
+- **reach**: consecutive prescribed positions (the base and every contact with a point) no farther apart than the
+  wire between them;
+- **walls**: the base and every contact point inside every wall;
+- **taut**: where two positions are exactly as far apart as the wire between them, that wire must be the straight
+  chord, so every prescribed angle at its ends or between them must be the chord's direction.
+
+Discrete checks (the scene's own ``bars`` and ``scheme``; :func:`guidewire.chain.place_bars` puts a node at every
+contact). A prescribed tangent is an *anchor* at a position along the chain counted in joints: the base angle at 0
+(the joint ``φ₁ − θ_A`` is bounded by b₂ in both schemes), a contact angle at node ``k`` at ``k`` in the paper scheme
+(the row ``φ_k = θ*``), and in the second-order scheme at ``k + ½`` (the tangent at node ``k`` is the mean of its two
+bars) or ``n + 1`` at the tip (the half joint ``θ* − φ_n`` is bounded by b₂). Then:
+
+- **turning**: with ``|Δθ| ≤ b₂`` per joint, two anchors ``d`` joints apart can differ by at most ``d·b₂``;
+- **discrete reach**: every bar angle lies in an interval (each anchor allows ``|φ_j − θ| ≤ |j − pos|·b₂``), so
+  the bars between two prescribed positions reach at most ``Σ l_j max_{φ ∈ I_j} cos(φ − ψ)`` along their chord
+  direction ``ψ``; and a single bar between two positions must be exactly as long as their distance.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .chain import place_bars
+
+if TYPE_CHECKING:
+    from .scene import Scene
+
+FloatArray = NDArray[np.float64]
+
+FEASIBILITY_SLACK = 1e-9
+"""Relative slack (of the wire length involved) allowed before a distance or a turn counts as out of reach."""
+
+TAUT_ANGLE_TOLERANCE = 1e-6
+"""A prescribed angle at a taut stretch of wire may differ from the chord direction by this much (rad)."""
+
+
+def _fmt(value: float) -> str:
+    return f"{value:g}"
+
+
+def _point_label(name: str, p: tuple[float, float], s: float) -> str:
+    return f"{name} ({_fmt(p[0])}, {_fmt(p[1])}) at s = {_fmt(s)}"
+
+
+def _positions(scene: Scene) -> list[tuple[str, float, tuple[float, float], int]]:
+    """(label, s, point, contact index or −1 for the base) of every prescribed position, by increasing s."""
+    out = [(scene.base.name or "base", 0.0, scene.base.point, -1)]
+    out += [(c.label(i), c.s, c.point, i) for i, c in enumerate(scene.contacts) if c.point is not None]
+    return out
+
+
+def _angle_gap(a: float, b: float) -> float:
+    """``|a − b|`` modulo 2π, in [0, π]."""
+    return abs(math.remainder(a - b, 2.0 * math.pi))
+
+
+def continuum_reach(scene: Scene) -> str | None:
+    """Two consecutive prescribed positions farther apart than the wire between them."""
+    points = _positions(scene)
+    for (name_a, s_a, p_a, _), (name_b, s_b, p_b, _) in zip(points, points[1:], strict=False):
+        distance = math.dist(p_a, p_b)
+        available = s_b - s_a
+        if distance > available * (1.0 + FEASIBILITY_SLACK):
+            return (
+                f"{_point_label(name_a, p_a, s_a)} and {_point_label(name_b, p_b, s_b)} are {distance:.2f} mm "
+                f"apart with only {available:.1f} mm of wire between them; move a contact or lengthen the wire "
+                "between them"
+            )
+    return None
+
+
+def walls(scene: Scene) -> str | None:
+    """The base or a contact point outside a wall."""
+    for j, wall in enumerate(scene.walls):
+        for name, _, p, _ in _positions(scene):
+            if wall.signed_distance(p) > 1e-9 * max(1.0, abs(wall.offset)):
+                return (
+                    f"{name} ({_fmt(p[0])}, {_fmt(p[1])}) lies outside wall {j + 1} "
+                    f"({_fmt(wall.normal[0])}·x + {_fmt(wall.normal[1])}·y ≤ {_fmt(wall.offset)}); move the point "
+                    "inside or the wall out"
+                )
+    return None
+
+
+def taut_angles(scene: Scene) -> str | None:
+    """A stretch of wire pulled straight between two positions, with a prescribed angle off its chord."""
+    points = _positions(scene)
+    for (name_a, s_a, p_a, i_a), (name_b, s_b, p_b, i_b) in zip(points, points[1:], strict=False):
+        distance = math.dist(p_a, p_b)
+        available = s_b - s_a
+        if distance < available * (1.0 - FEASIBILITY_SLACK):
+            continue
+        chord = math.atan2(p_b[1] - p_a[1], p_b[0] - p_a[0])
+        angled = [(name_a, scene.base.angle if i_a < 0 else scene.contacts[i_a].angle)]
+        angled += [(c.label(i), c.angle) for i, c in enumerate(scene.contacts) if s_a < c.s < s_b and c.point is None]
+        angled.append((name_b, scene.contacts[i_b].angle))
+        for name, angle in angled:
+            if angle is not None and _angle_gap(angle, chord) > TAUT_ANGLE_TOLERANCE:
+                return (
+                    f"{_point_label(name_a, p_a, s_a)} and {_point_label(name_b, p_b, s_b)} are {distance:.6g} mm "
+                    f"apart with {available:.6g} mm of wire between them, so that wire must be straight along "
+                    f"{chord:.6g} rad, but {name}'s prescribed angle is {_fmt(angle)} rad; prescribe the chord's "
+                    "direction or give the wire some slack"
+                )
+    return None
+
+
+def _anchors(scene: Scene, contact_nodes: NDArray[np.int_]) -> list[tuple[float, float, str]]:
+    """(position in joints, angle, label) of every prescribed tangent, by position (see the module docstring)."""
+    n = scene.wire.bars
+    out: list[tuple[float, float, str]] = []
+    if scene.base.angle is not None:
+        out.append((0.0, scene.base.angle, f"{scene.base.name or 'base'} (angle {_fmt(scene.base.angle)} rad)"))
+    for i, (c, k) in enumerate(zip(scene.contacts, contact_nodes, strict=True)):
+        if c.angle is None:
+            continue
+        if scene.wire.scheme == "paper":
+            pos = float(k)
+        else:
+            pos = float(n + 1) if k == n else k + 0.5
+        out.append((pos, c.angle, f"{c.label(i)} (angle {_fmt(c.angle)} rad at s = {_fmt(c.s)})"))
+    return out
+
+
+def turning(scene: Scene) -> str | None:
+    """Two prescribed tangents further apart in angle than b₂ per joint allows."""
+    b2 = scene.wire.max_relative_angle
+    if b2 is None:
+        return None
+    _, nodes = place_bars(scene.wire.length, scene.wire.bars, [c.s for c in scene.contacts])
+    anchors = _anchors(scene, nodes)
+    for (pos_a, th_a, name_a), (pos_b, th_b, name_b) in zip(anchors, anchors[1:], strict=False):
+        joints = pos_b - pos_a
+        turn = abs(th_b - th_a)
+        if turn > joints * b2 * (1.0 + FEASIBILITY_SLACK) + 1e-12:
+            return (
+                f"{name_a} and {name_b} are {_fmt(joints)} joints apart in the {scene.wire.bars}-bar chain: turning "
+                f"{turn:.6g} rad needs |Δθ| ≥ {turn / joints:.6g} rad per joint, but wire.max_relative_angle (b₂) is "
+                f"{_fmt(b2)}; raise b₂ to at least {turn / joints:.6g} or use more bars"
+            )
+    return None
+
+
+def _best_cosine(lo: FloatArray, hi: FloatArray, psi: float) -> FloatArray:
+    """``max cos(φ − ψ)`` over ``φ ∈ [lo, hi]``, elementwise (1 where the interval contains ``ψ`` mod 2π)."""
+    with np.errstate(invalid="ignore"):
+        k = np.ceil((lo - psi) / (2.0 * np.pi))  # first ψ + 2πk ≥ lo
+        contains = ~np.isfinite(lo) | ~np.isfinite(hi) | (psi + 2.0 * np.pi * k <= hi)
+        ends = np.maximum(np.cos(lo - psi), np.cos(hi - psi))
+    return np.where(contains, 1.0, ends)
+
+
+def discrete_reach(scene: Scene) -> str | None:
+    """Two prescribed positions the bars between them cannot join, given the anchors and b₂."""
+    n = scene.wire.bars
+    lengths, nodes = place_bars(scene.wire.length, n, [c.s for c in scene.contacts])
+    anchors = _anchors(scene, nodes)
+    b2 = math.inf if scene.wire.max_relative_angle is None else scene.wire.max_relative_angle
+    j = np.arange(1, n + 1, dtype=float)
+    lo, hi = np.full(n, -np.inf), np.full(n, np.inf)
+    for pos, theta, _ in anchors:
+        dist = np.abs(j - pos)
+        reach = dist * b2 if math.isfinite(b2) else np.where(dist == 0.0, 0.0, np.inf)
+        lo, hi = np.maximum(lo, theta - reach), np.minimum(hi, theta + reach)
+    total = float(scene.wire.length)
+    points = _positions(scene)
+    node_of = {-1: 0, **{i: int(k) for i, k in enumerate(nodes)}}
+    for (name_a, s_a, p_a, i_a), (name_b, s_b, p_b, i_b) in zip(points, points[1:], strict=False):
+        a, b = node_of[i_a], node_of[i_b]
+        delta = np.subtract(p_b, p_a)
+        distance = float(np.hypot(*delta))
+        pair = f"{_point_label(name_a, p_a, s_a)} and {_point_label(name_b, p_b, s_b)}"
+        if b - a == 1 and abs(distance - lengths[a]) > FEASIBILITY_SLACK * total:
+            return (
+                f"{pair} are {distance:.6g} mm apart with one bar of {lengths[a]:.6g} mm between them in the "
+                f"{n}-bar chain: a rigid bar spans exactly its length; use more bars"
+            )
+        psi = math.atan2(delta[1], delta[0])
+        reach = float(lengths[a:b] @ _best_cosine(lo[a:b], hi[a:b], psi))
+        if distance > reach + FEASIBILITY_SLACK * total:
+            limit = "" if scene.wire.max_relative_angle is None else f" and b₂ = {_fmt(b2)}"
+            return (
+                f"{pair} are {distance:.6g} mm apart, but with the prescribed angles{limit} the {b - a} bars between "
+                f"them (of the {n}-bar chain) reach at most {reach:.6g} mm in that direction; use more bars"
+                + ("" if scene.wire.max_relative_angle is None else ", raise b₂")
+                + " or move a contact"
+            )
+    return None
+
+
+CHECKS = (continuum_reach, walls, taut_angles, turning, discrete_reach)
+"""The checks :meth:`guidewire.Scene.infeasibility` runs, in this order (the first reason found is reported)."""
+
+
+def infeasibility(scene: Scene) -> str | None:
+    """The first reason from :data:`CHECKS` why ``scene`` has no solution, or None."""
+    for check in CHECKS:
+        reason = check(scene)
+        if reason is not None:
+            return reason
+    return None

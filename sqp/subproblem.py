@@ -193,6 +193,8 @@ def _solve(
                                                   **{**options, **retry})
             except Exception:  # a backend error is a failed subproblem, never a crash of the solve
                 sol = None
+            if not isinstance(sol, qpsolvers.Solution):
+                sol = None  # nothing usable came back
             if _trusted(sol, scale):
                 return sol, solver
             if sol is not None and _declared_infeasible(sol):

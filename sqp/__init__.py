@@ -7,8 +7,9 @@
 True
 """
 
+from sqp.problem import StartPointWarning
 from sqp.result import IterationRecord, Result, Status
 from sqp.solver import minimize
 from sqp.subproblem import installed_solvers
 
-__all__ = ["IterationRecord", "Result", "Status", "installed_solvers", "minimize"]
+__all__ = ["IterationRecord", "Result", "StartPointWarning", "Status", "installed_solvers", "minimize"]

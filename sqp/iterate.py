@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 
 from sqp.derivatives import forward_difference
 from sqp.hessian import DENSE_LIMIT
-from sqp.problem import Problem, block_jacobian
+from sqp.problem import NonlinearBlock, Problem, call_user, check_jacobian_shape
 
 Array = NDArray[np.float64]
 
@@ -46,7 +46,11 @@ class Derivatives:
 class Evaluator:
     """Evaluates a :class:`Problem`, counting objective (``nfev``) and derivative (``njev``) evaluations.
 
-    Finite-difference gradients count their objective evaluations in ``nfev`` (as scipy does).
+    Finite-difference gradients count their objective evaluations in ``nfev`` (as scipy does). Every user function
+    is called through :func:`~sqp.problem.call_user`: an exception it raises propagates with a note naming the
+    function and the iteration ``nit`` (set by the solver: iteration ``k`` is the work that produces the ``k``-th
+    iterate, from the Hessian and QP at ``x_{k-1}`` to the derivatives at the accepted point; 0 is the start). A
+    function whose output changes size or shape during the solve is a ValueError naming it.
     """
 
     def __init__(self, problem: Problem) -> None:
@@ -54,20 +58,43 @@ class Evaluator:
         self.nfev = 0
         self.njev = 0
         self.nhev = 0
+        self.nit = 0
+        #: Which Hessian returned NaN or inf in the last :meth:`lagrangian_hessian` (None when all were finite).
+        self.hessian_nonfinite: str | None = None
+
+    @property
+    def where(self) -> str:
+        return f"iteration {self.nit}"
 
     def _f(self, x: Array) -> float:
         self.nfev += 1
-        val = np.asarray(self.problem.fun(x.copy()), dtype=float)
-        return float(val.reshape(-1)[0]) if val.size == 1 else float("nan")
+        val = np.asarray(call_user("fun", self.problem.fun, x, self.where), dtype=float)
+        if val.size != 1:
+            raise ValueError(f"fun returned an array of shape {val.shape} at {self.where}; it must return a scalar "
+                             "(the objective value).")
+        return float(val.reshape(-1)[0])
+
+    def _c(self, block: NonlinearBlock, x: Array) -> Array:
+        name = block.part("fun")
+        val = np.asarray(call_user(name, block.fun, x, self.where), dtype=float)
+        if val.ndim > 1 or val.size != block.size:
+            raise ValueError(f"{name} returned {val.size} value(s) (shape {val.shape}) at {self.where}; it returned "
+                             f"{block.size} at x0. A constraint function must return the same number of values at "
+                             "every point (a scalar or a 1-D array).")
+        return np.atleast_1d(val)
+
+    def _jac(self, block: NonlinearBlock, x: Array) -> Any:
+        p = self.problem
+        if block.jac is None:
+            return forward_difference(lambda z: self._c(block, z), x, p.lower, p.upper)
+        return check_jacobian_shape(block, call_user(block.part("jac"), block.jac, x, self.where), x.size,
+                                    self.where)
 
     def point(self, x: Array) -> Point:
         """Evaluate ``f``, the nonlinear rows and the linear rows at ``x``."""
         p = self.problem
         f = self._f(x)
-        if p.blocks:
-            c = np.concatenate([np.atleast_1d(np.asarray(b.fun(x.copy()), dtype=float)).ravel() for b in p.blocks])
-        else:
-            c = np.zeros(0)
+        c = np.concatenate([self._c(b, x) for b in p.blocks]) if p.blocks else np.zeros(0)
         r = p.A @ x if p.A.shape[0] else np.zeros(0)
         return Point(x=x, f=f, c=c, r=np.asarray(r, dtype=float).ravel())
 
@@ -79,20 +106,51 @@ class Evaluator:
         if p.grad is None:
             g = forward_difference(lambda z: np.array([self._f(z)]), x, p.lower, p.upper, f0=np.array([pt.f]))[0]
         else:
-            g = np.asarray(p.grad(x.copy()), dtype=float).reshape(-1)
+            g = np.asarray(call_user("jac", p.grad, x, self.where), dtype=float)
+            if g.shape != (x.size,):
+                raise ValueError(f"jac returned shape {g.shape} at {self.where}; expected ({x.size},): the gradient "
+                                 "of fun.")
         if p.blocks:
-            parts = [block_jacobian(b, x.copy(), p.lower, p.upper) for b in p.blocks]
+            parts = [self._jac(b, x) for b in p.blocks]
             J = sp.vstack(parts, format="csr") if any(sp.issparse(m) for m in parts) else np.vstack(parts)
         else:
             J = np.zeros((0, x.size))
         return Derivatives(g=g, J=J)
 
+    def nonfinite_source(self, pt: Point, der: Derivatives | None = None) -> str | None:
+        """The first user function whose value at ``pt`` (or derivative in ``der``) is NaN or inf, as the user names
+        it (``"fun"``, ``"constraints[1]['jac']"``, ...); None when every value is finite."""
+        p = self.problem
+        if not np.isfinite(pt.f):
+            return "fun"
+        start = 0
+        for block in p.blocks:
+            if not np.all(np.isfinite(pt.c[start : start + block.size])):
+                return block.part("fun")
+            start += block.size
+        if der is None:
+            return None
+        if not np.all(np.isfinite(der.g)):
+            return "jac" if p.grad is not None else "fun (in its finite-difference gradient)"
+        start = 0
+        for block in p.blocks:
+            rows = der.J[start : start + block.size]
+            if not np.all(np.isfinite(rows.data if sp.issparse(rows) else rows)):
+                fd = f"{block.part('fun')} (in its finite differences)"
+                return block.part("jac") if block.jac is not None else fd
+            start += block.size
+        return None
+
     def lagrangian_hessian(self, x: Array, lam_nl: Array) -> Any:
-        """``grad^2 f(x) - sum_i lam_i grad^2 c_i(x)`` from the user's Hessians (dense or sparse)."""
+        """``grad^2 f(x) - sum_i lam_i grad^2 c_i(x)`` from the user's Hessians (dense or sparse).
+
+        Sets :attr:`hessian_nonfinite` to the first Hessian that returned NaN or inf."""
         p = self.problem
         assert p.hess is not None
         self.nhev += 1
-        H = p.hess(x.copy())
+        n = x.size
+        self.hessian_nonfinite = None
+        H = self._hessian("hess", call_user("hess", p.hess, x, self.where), n)
         if sp.issparse(H) and H.shape[0] <= DENSE_LIMIT:
             H = H.toarray()  # small: dense arithmetic is cheaper than scipy.sparse's per-call overhead
         W = H.tocsc() if sp.issparse(H) else np.array(H, dtype=float)
@@ -103,10 +161,22 @@ class Evaluator:
             if not np.any(v):
                 continue
             assert block.hess is not None
-            Hc = block.hess(x.copy(), v)
+            name = block.part("hess")
+            Hc = self._hessian(name, call_user(name, block.hess, x, self.where, v), n)
             if sp.issparse(Hc) and not sp.issparse(W):
                 Hc = Hc.toarray()
             W = W - (Hc if sp.issparse(Hc) else np.asarray(Hc, dtype=float))
         if sp.issparse(W):
             return sp.csc_matrix(W)
         return np.asarray(W)
+
+    def _hessian(self, name: str, H: Any, n: int) -> Any:
+        """``H`` checked: shape ``(n, n)`` (ValueError otherwise); a non-finite entry is recorded, not raised."""
+        if not sp.issparse(H):
+            H = np.asarray(H, dtype=float)
+        if H.shape != (n, n):
+            raise ValueError(f"{name} returned shape {H.shape} at {self.where}; expected ({n}, {n}).")
+        data = H.data if sp.issparse(H) else H
+        if self.hessian_nonfinite is None and not np.all(np.isfinite(data)):
+            self.hessian_nonfinite = name
+        return H

@@ -7,6 +7,7 @@ multipliers back to the user's blocks at the end (:meth:`Problem.split_multiplie
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
@@ -17,24 +18,58 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.optimize import Bounds, LinearConstraint, NonlinearConstraint
 
-from sqp.derivatives import forward_difference
-
 Array = NDArray[np.float64]
+
+#: A start this close to a bound (relative to ``max(1, |bound|)``) is rounding, and is clipped without a warning.
+START_ROUNDING = 1e-12
+
+
+class StartPointWarning(UserWarning):
+    """``x0`` lies outside the bounds; the solve starts from its projection onto them (``clip(x0, lb, ub)``)."""
+
+
+def format_point(x: Array) -> str:
+    """A short rendering of a point for messages (the first and last few entries of a long one)."""
+    return np.array2string(np.asarray(x, dtype=float), precision=6, threshold=8, edgeitems=3, separator=", ")
+
+
+def call_user(name: str, fn: Callable[..., Any], x: Array, where: str, *extra: Any) -> Any:
+    """``fn(x.copy(), *extra)``; an exception it raises propagates unchanged (same object, same type) with a note
+    naming ``name``, ``where`` (e.g. ``"iteration 3"``) and ``x``."""
+    try:
+        return fn(x.copy(), *extra)
+    except Exception as exc:
+        exc.add_note(f"sqp.minimize: raised by {name} at {where} (x = {format_point(x)}).")
+        raise
+
+
+#: ``where`` of the evaluations made while the input is checked.
+AT_START = "iteration 0 (the start point)"
 
 
 @dataclass(frozen=True)
 class NonlinearBlock:
-    """One user constraint with nonlinear rows ``lb <= fun(x) <= ub``."""
+    """One user constraint with nonlinear rows ``lb <= fun(x) <= ub``.
+
+    ``name`` is the constraint as the user gave it (``"constraints[1]"``); ``dict_style`` says whether it was an
+    SLSQP dict (its parts are then named ``constraints[1]['fun']``, otherwise ``constraints[1].fun``).
+    """
 
     fun: Callable[[Array], Array]
     jac: Callable[[Array], Array] | None  # None: finite differences
     lb: Array
     ub: Array
     hess: Callable[[Array, Array], Any] | None = None  # hess(x, v) = sum_i v_i * Hessian of row i
+    name: str = "constraints[?]"
+    dict_style: bool = True
 
     @property
     def size(self) -> int:
         return self.lb.size
+
+    def part(self, attr: str) -> str:
+        """How the user names one of this constraint's callables, e.g. ``constraints[1]['jac']``."""
+        return f"{self.name}[{attr!r}]" if self.dict_style else f"{self.name}.{attr}"
 
 
 @dataclass(frozen=True)
@@ -207,6 +242,26 @@ def _check_bounds(bounds: Any, n: int) -> tuple[Array, Array]:
     return lo, hi
 
 
+def _start_values(name: str, fun: Callable[[Array], Any], x0: Array) -> Array:
+    """A constraint function's values at the start: it must return a scalar or a 1-D array."""
+    arr = np.asarray(call_user(name, fun, x0, AT_START), dtype=float)
+    if arr.ndim > 1:
+        raise ValueError(f"{name} returned an array of shape {arr.shape} at x0; a constraint function must return a "
+                         "scalar or a 1-D array (m,).")
+    return np.atleast_1d(arr)
+
+
+def _constraint_side(value: Any, m: int, side: str, con_name: str, fun_name: str) -> Array:
+    """``lb`` or ``ub`` of a NonlinearConstraint: a scalar or one entry per value its fun returns."""
+    arr = np.asarray(value, dtype=float)
+    if arr.ndim == 0:
+        return np.full(m, float(arr))
+    if arr.shape != (m,):
+        raise ValueError(f"{fun_name} returned {m} value(s) at x0 but {con_name}.{side} has {arr.size} (shape "
+                         f"{arr.shape}); give lb and ub as scalars or with one entry per value of fun.")
+    return arr
+
+
 def _dict_block(con: dict[str, Any], i: int, x0: Array) -> NonlinearBlock:
     kind = con.get("type")
     if kind not in ("eq", "ineq"):
@@ -226,21 +281,40 @@ def _dict_block(con: dict[str, Any], i: int, x0: Array) -> NonlinearBlock:
     hess = con.get("hess")
     if hess is not None and not callable(hess):
         raise TypeError(f"constraints[{i}]['hess'] must be callable: hess(x, v) = sum_i v_i * Hessian of row i.")
-    m = np.atleast_1d(np.asarray(f(x0.copy()), dtype=float)).size
+    m = _start_values(f"constraints[{i}]['fun']", f, x0).size
     lb = np.zeros(m)
     ub = np.zeros(m) if kind == "eq" else np.full(m, np.inf)
-    return NonlinearBlock(fun=f, jac=j, lb=lb, ub=ub, hess=hess)
+    return NonlinearBlock(fun=f, jac=j, lb=lb, ub=ub, hess=hess, name=f"constraints[{i}]", dict_style=True)
 
 
 def _nonlinear_object_block(con: NonlinearConstraint, i: int, x0: Array) -> NonlinearBlock:
-    m = np.atleast_1d(np.asarray(con.fun(x0.copy()), dtype=float)).size
+    name = f"constraints[{i}]"
+    m = _start_values(f"{name}.fun", con.fun, x0).size
     jac = con.jac if callable(con.jac) else None
-    lb = _as_vector(con.lb, m, f"constraints[{i}].lb")
-    ub = _as_vector(con.ub, m, f"constraints[{i}].ub")
+    lb = _constraint_side(con.lb, m, "lb", name, f"{name}.fun")
+    ub = _constraint_side(con.ub, m, "ub", name, f"{name}.fun")
     if np.any(lb > ub):
         raise ValueError(f"constraints[{i}] has lb > ub in rows {np.flatnonzero(lb > ub).tolist()}.")
     hess = con.hess if callable(con.hess) else None
-    return NonlinearBlock(fun=con.fun, jac=jac, lb=lb, ub=ub, hess=hess)
+    return NonlinearBlock(fun=con.fun, jac=jac, lb=lb, ub=ub, hess=hess, name=name, dict_style=False)
+
+
+def _project_start(x: Array, lower: Array, upper: Array) -> Array:
+    """``x0`` clipped into the bounds, with a :class:`StartPointWarning` when it was genuinely outside them (a start
+    within rounding of a bound, :data:`START_ROUNDING`, is clipped silently)."""
+    xs = np.clip(x, lower, upper)
+    moved = np.abs(xs - x)
+    with np.errstate(invalid="ignore"):
+        rounding = START_ROUNDING * np.maximum(1.0, np.abs(xs))
+    outside = np.flatnonzero(moved > rounding)
+    if outside.size:
+        shown = ", ".join(f"x0[{i}] = {x[i]:.6g} not in [{lower[i]:.6g}, {upper[i]:.6g}]" for i in outside[:3])
+        more = f" and {outside.size - 3} more" if outside.size > 3 else ""
+        indices = outside[:5].tolist()
+        warnings.warn(f"x0 is outside the bounds at indices {indices}{'...' if outside.size > 5 else ''} ({shown}"
+                      f"{more}); it was projected onto the bounds (clipped) and the solve starts from there.",
+                      StartPointWarning, stacklevel=4)
+    return xs
 
 
 def build_problem(
@@ -273,7 +347,7 @@ def build_problem(
     else:
         raise TypeError(f"jac must be callable, None or '2-point'; got {jac!r}.")
     lower, upper = _check_bounds(bounds, n)
-    xs = np.clip(x, lower, upper)
+    xs = _project_start(x, lower, upper)
 
     if isinstance(constraints, dict | LinearConstraint | NonlinearConstraint):
         constraints = (constraints,)
@@ -331,7 +405,7 @@ def build_problem(
     problem = Problem(
         fun=f,
         grad=grad,
-        x0=x,
+        x0=xs,
         lower=lower,
         upper=upper,
         A=A_all,
@@ -347,32 +421,30 @@ def build_problem(
 
 
 def _check_shapes(problem: Problem, x: Array) -> None:
-    """Evaluate once at the (clipped) start to catch non-scalar objectives and wrong Jacobian shapes early."""
+    """Evaluate once at the (projected) start to catch non-scalar objectives and wrong Jacobian shapes early."""
     n = problem.n
-    f = np.asarray(problem.fun(x.copy()))
+    f = np.asarray(call_user("fun", problem.fun, x, AT_START))
     if f.size != 1:
         raise ValueError(f"fun returned an array of shape {f.shape}; it must return a scalar (the objective value).")
     if problem.grad is not None:
-        g = np.asarray(problem.grad(x.copy()), dtype=float)
+        g = np.asarray(call_user("jac", problem.grad, x, AT_START), dtype=float)
         if g.shape != (n,):
             raise ValueError(f"jac returned shape {g.shape}; expected ({n},): the gradient of fun.")
-    for i, block in enumerate(problem.blocks):
-        if block.jac is None:
-            continue
-        J = block.jac(x.copy())
-        shape = J.shape if sp.issparse(J) else np.atleast_2d(np.asarray(J, dtype=float)).shape
-        if shape != (block.size, n):
-            raise ValueError(f"the jac of nonlinear constraint block {i} returned shape {shape}; "
-                             f"expected ({block.size}, {n}).")
+    for block in problem.blocks:
+        if block.jac is not None:
+            check_jacobian_shape(block, call_user(block.part("jac"), block.jac, x, AT_START), n, "x0")
 
 
-def block_jacobian(block: NonlinearBlock, x: Array, lower: Array, upper: Array) -> Any:
-    """Jacobian of one nonlinear block: the user's callable (a sparse answer stays sparse, CSR) or forward
-    differences kept inside the bounds."""
-    if block.jac is None:
-        return forward_difference(lambda z: np.atleast_1d(np.asarray(block.fun(z), dtype=float)), x, lower, upper)
-    J = block.jac(x)
+def check_jacobian_shape(block: NonlinearBlock, J: Any, n: int, where: str) -> Any:
+    """``J`` as CSR (sparse) or a dense ``(m, n)`` array; ValueError naming the constraint when its shape is wrong.
+
+    A dense answer may be 1-D for a single row."""
     if sp.issparse(J):
-        return sp.csr_matrix(J)
-    return np.atleast_2d(np.asarray(J, dtype=float)).reshape(block.size, x.size)
-
+        shape = J.shape
+    else:
+        J = np.atleast_2d(np.asarray(J, dtype=float))
+        shape = J.shape
+    if shape != (block.size, n):
+        raise ValueError(f"{block.part('jac')} returned shape {shape} at {where}; expected ({block.size}, {n}): one "
+                         "row per value of its fun, one column per variable.")
+    return sp.csr_matrix(J) if sp.issparse(J) else J

@@ -21,7 +21,7 @@ from sqp.iterate import Derivatives, Evaluator, Point
 from sqp.kkt import KKTResiduals, kkt_residuals, lagrangian_gradient, max_violation
 from sqp.merit import ARMIJO, descent_penalty, directional_derivative, merit, next_step_length, update_penalty
 from sqp.options import Options
-from sqp.problem import Problem, build_problem
+from sqp.problem import Problem, build_problem, format_point
 from sqp.report import HEADER, format_row
 from sqp.result import IterationRecord, Result, Status
 from sqp.subproblem import LinearisedRows, QPStep, linearise, solve_subproblem
@@ -63,7 +63,9 @@ def minimize(
     fun : callable
         Objective ``fun(x, *args) -> float``.
     x0 : array_like, shape (n,)
-        Starting point; clipped into the bounds and, if needed, projected onto the linear constraints.
+        Starting point. A start outside the bounds is projected onto them (clipped) with a
+        :class:`~sqp.StartPointWarning` naming the variables (a start within rounding, ``1e-12 * max(1, |bound|)``,
+        of a bound is clipped silently); a start violating the linear constraints is then projected onto them.
     jac : callable, '2-point' or None
         Gradient ``jac(x, *args) -> (n,)``; None or '2-point' for forward differences that stay inside the bounds.
     bounds : scipy.optimize.Bounds or sequence of (lo, hi), optional
@@ -96,7 +98,7 @@ def minimize(
     max_iter : int
         Maximum number of iterations.
     callback : callable, optional
-        ``callback(intermediate_result)`` after each iteration; raise ``StopIteration`` to stop.
+        ``callback(intermediate_result)`` after each iteration; raise ``StopIteration`` to stop (status CALLBACK).
     verbose : bool
         Print an iteration table.
 
@@ -105,11 +107,26 @@ def minimize(
     Result
         An ``OptimizeResult`` with ``x, fun, jac, success, status, message, nit, nfev, njev, maxcv`` plus
         ``constraint_multipliers``, ``bound_multipliers``, ``multipliers``, ``kkt``, ``history`` and ``hess``.
+        ``success`` is True only for SUCCESS and ACCEPTABLE; every other :class:`~sqp.Status` says why the solve
+        ended: NaN or inf that persists down to the shortest trial step, or at the start, is NONFINITE (the message
+        names the function and the iteration); a locally infeasible problem is INFEASIBLE (the message gives the
+        least violation reached), LINEAR_INFEASIBLE when the linear constraints and bounds alone are inconsistent;
+        QP_FAILED names the QP backends tried (``qp_solver``, then the fallbacks quadprog and osqp).
 
     Raises
     ------
     TypeError, ValueError
-        On malformed input, before any iteration, naming the argument and the fix.
+        On malformed input, before any iteration, naming the argument and the fix. ValueError also when a user
+        function changes the size or shape of its output during the solve (naming it and the iteration).
+    Exception
+        Whatever ``fun``, ``jac``, ``hess``, a constraint's ``fun``/``jac``/``hess`` or ``callback`` raises
+        (other than ``StopIteration`` from the callback) propagates unchanged, with a note (``add_note``) naming
+        the function, the iteration and ``x``.
+
+    Warns
+    -----
+    StartPointWarning
+        When ``x0`` lies outside the bounds (it is projected onto them).
     """
     options = Options(tol=tol, max_iter=max_iter, qp_solver=qp_solver, qp_options=dict(qp_options or {}),
                       callback=callback, verbose=verbose)
@@ -180,15 +197,17 @@ def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array
     t_start = time.perf_counter()
     ev = Evaluator(problem)
     history: list[IterationRecord] = []
-    x, status = _start_point(problem, options)
+    x, status, detail = _start_point(problem, options)
     if status is not None:
-        return _result(problem, ev, None, None, None, status, history, t_start, x=x)
+        return _result(problem, ev, None, None, None, status, history, t_start, x=x, detail=detail)
     pt = ev.point(x)
     if not pt.finite:
-        return _result(problem, ev, pt, None, None, Status.NONFINITE, history, t_start)
+        return _result(problem, ev, pt, None, None, Status.NONFINITE, history, t_start,
+                       detail=_nonfinite_detail(ev, pt, None, "at the start point"))
     der = ev.derivatives(pt)
     if not der.finite:
-        return _result(problem, ev, pt, der, None, Status.NONFINITE, history, t_start)
+        return _result(problem, ev, pt, der, None, Status.NONFINITE, history, t_start,
+                       detail=_nonfinite_detail(ev, pt, der, "at the start point"))
     exact = problem.hess is not None
     scaled_start = B0 is None and not exact
     shift = al_weight = 0.0
@@ -200,16 +219,23 @@ def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array
     if options.verbose:
         print(HEADER)
     status = Status.MAX_ITER
+    detail = ""
     rho = 0.0
     stalled = 0
     best: tuple[KKTResiduals, QPStep] | None = None
+    least = (max_violation(problem, pt.x, pt.c, pt.r), pt.x)  # the least violation reached, and where
     for nit in range(options.max_iter + 1):
+        ev.nit = nit + 1  # evaluations from here to the acceptance of the next point belong to iteration nit + 1
         if exact:  # the exact Lagrangian Hessian at (x_k, lam_{k-1}), made positive definite
             lam_prev = st.qp.lam_nl if st.qp is not None else (
                 np.zeros(problem.nonlinear.lb.size) if lam0 is None else lam0)
             al_rows = _al_rows(problem, lam_prev)
-            st.B, shift, al_weight = convexify(ev.lagrangian_hessian(st.pt.x, lam_prev), shift,
-                                               _equality_rows(problem, st.der.J, al_rows), al_weight)
+            W = ev.lagrangian_hessian(st.pt.x, lam_prev)
+            if ev.hessian_nonfinite is not None:
+                status = Status.NONFINITE
+                detail = f"{ev.hessian_nonfinite} returned NaN or inf at {ev.where} (x = {format_point(st.pt.x)})."
+                break
+            st.B, shift, al_weight = convexify(W, shift, _equality_rows(problem, st.der.J, al_rows), al_weight)
         # the QP subproblem (Eqs. 9–10), elastic when its linearisation is inconsistent
         qp, rho = _subproblem(problem, options, st, rho)
         if exact and al_weight > 0.0 and qp.found and not qp.elastic:
@@ -220,6 +246,8 @@ def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array
             qp, rho = _subproblem(problem, options, st, rho)
             if not qp.found:
                 status = Status.QP_FAILED
+                detail = (f"Backends tried: {', '.join(name for name, _ in options.backends)} (last answer: "
+                          f"{qp.status}) at iteration {nit}.")
                 break
         st.qp = qp
         kkt = _kkt(problem, st)
@@ -241,17 +269,24 @@ def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array
             dv = float(np.sum(rows.violation(st.pt.c)) - np.sum(rows.violation(st.pt.c + st.der.J @ d)))
             st.mu = np.maximum(st.mu, descent_penalty(float(st.der.g @ d), float(d @ (st.B @ d)), dv))
         search = _line_search(problem, options, ev, st, d)
-        if search is None and np.max(st.mu, initial=0.0) > 10.0 * max(float(np.max(np.abs(qp.lam_nl), initial=0.0)),
-                                                                        1e-12):
+        if search.pt is None and np.max(st.mu, initial=0.0) > 10.0 * max(
+                float(np.max(np.abs(qp.lam_nl), initial=0.0)), 1e-12):
             # penalties inflated by early, poorly scaled multipliers: restart them from the current ones (Eq. 13)
             st.mu = np.abs(qp.lam_nl)
             search = _line_search(problem, options, ev, st, d)
-        if search is not None and _negligible(st.pt.x, search[0].x):
+        if search.pt is not None and _negligible(st.pt.x, search.pt.x):
             stalled += 1
         else:
             stalled = 0
-        if search is None or stalled >= STALL_ITERATIONS:
-            status = _stalled_status(problem, st, d) if search is None else Status.SMALL_STEP
+        if search.pt is None or stalled >= STALL_ITERATIONS:
+            if search.pt is not None:
+                status = Status.SMALL_STEP
+            elif search.nonfinite is not None:
+                status = Status.NONFINITE  # NaN or inf down to the shortest step tried
+                detail = (f"{search.nonfinite} returned NaN or inf at every trial point of iteration {nit + 1} down "
+                          f"to step length {search.alpha:.1e} (from x = {format_point(st.pt.x)}).")
+            else:
+                status = _stalled_status(problem, st, d)
             # (the multiplier estimates of the QPs solved while x stood still all belong to this point: the best one
             # decides; rounding makes them scatter around the limit on ill-conditioned problems such as HS116)
             assert best is not None
@@ -260,11 +295,8 @@ def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array
                     ACCEPTABLE_TOL, options.tol):
                 status, st.qp = Status.ACCEPTABLE, qp_best
             break
-        new_pt, alpha, soc = search
-        new_der = ev.derivatives(new_pt)
-        if not new_der.finite:
-            status = Status.NONFINITE
-            break
+        new_pt, new_der, alpha, soc = search.pt, search.der, search.alpha, search.soc
+        assert new_der is not None
         # the damped BFGS update (Eq. 6)
         s = new_pt.x - st.pt.x
         damped = False
@@ -280,6 +312,8 @@ def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array
             penalty=float(np.max(st.mu, initial=0.0)), qp_status=qp.status, damped=damped, soc=soc,
         )
         history.append(rec)
+        if rec.maxcv < least[0]:
+            least = (rec.maxcv, new_pt.x)
         if options.verbose:
             print(format_row(rec))
         if options.callback is not None:
@@ -289,6 +323,10 @@ def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array
             except StopIteration:
                 status = Status.CALLBACK
                 break
+            except Exception as exc:
+                exc.add_note(f"sqp.minimize: raised by callback at iteration {nit + 1} "
+                             f"(x = {format_point(new_pt.x)}).")
+                raise
         # the QP's multipliers are those of the new point to second order near a solution (Newton–SQP): when they
         # already satisfy the KKT test there with a wide margin, and every row they load is active there, the next
         # Hessian and QP would only confirm it
@@ -296,22 +334,51 @@ def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array
         if _kkt(problem, st).satisfied(early) and _loaded_rows_active(problem, st, early):
             status = Status.SUCCESS
             break
-    return _result(problem, ev, st.pt, st.der, st.qp, status, history, t_start, B=st.B, nit=len(history))
+    if status is Status.INFEASIBLE:
+        detail = f"Least violation reached: {least[0]:.2e} at x = {format_point(least[1])}."
+    return _result(problem, ev, st.pt, st.der, st.qp, status, history, t_start, B=st.B, nit=len(history),
+                   detail=detail)
 
 
-def _start_point(problem: Problem, options: Options) -> tuple[Array, Status | None]:
-    """Clip ``x0`` into the bounds; project it onto the linear rows when they are violated."""
+def _nonfinite_detail(ev: Evaluator, pt: Point, der: Derivatives | None, where: str) -> str:
+    """Which user function returned NaN or inf, where."""
+    return f"{ev.nonfinite_source(pt, der)} returned NaN or inf {where} (iteration {ev.nit}, x = {format_point(pt.x)})."
+
+
+def _start_point(problem: Problem, options: Options) -> tuple[Array, Status | None, str]:
+    """Clip ``x0`` into the bounds; project it onto the linear rows when they are violated.
+
+    When that projection (a QP) fails, an LP decides between LINEAR_INFEASIBLE and a failure of the QP backends."""
     x = np.clip(problem.x0, problem.lower, problem.upper)
     if problem.linear.lb.size == 0 or np.max(problem.linear.violation(problem.A @ x), initial=0.0) <= 1e-12:
-        return x, None
+        return x, None, ""
     n = problem.n
     empty = linearise(np.zeros((0, n)), np.zeros(0), problem.nonlinear.__class__.from_bounds(np.zeros(0), np.zeros(0)))
     lin = linearise(problem.A, problem.A @ x, problem.linear)
     qp = solve_subproblem(np.eye(n), np.zeros(n), empty, lin, problem.lower - x, problem.upper - x,
                           backends=options.backends)
-    if not qp.found:
-        return x, Status.LINEAR_INFEASIBLE
-    return np.clip(x + qp.d, problem.lower, problem.upper), None
+    if qp.found:
+        return np.clip(x + qp.d, problem.lower, problem.upper), None, ""
+    if qp.status == "QP infeasible" or not _linear_rows_consistent(problem):
+        return x, Status.LINEAR_INFEASIBLE, ""
+    return x, Status.QP_FAILED, (f"Backends tried: {', '.join(name for name, _ in options.backends)} (on the "
+                                 "projection of x0 onto the linear constraints, which have a common point).")
+
+
+def _linear_rows_consistent(problem: Problem) -> bool:
+    """Whether the linear rows and bounds have a common point, by a feasibility LP (HiGHS); True unless the LP
+    certifies infeasibility."""
+    from scipy.optimize import linprog
+
+    rows, A = problem.linear, problem.A
+    A_ub = sp.vstack([A[rows.upper], -A[rows.lower]]) if sp.issparse(A) else np.vstack([A[rows.upper], -A[rows.lower]])
+    b_ub = np.concatenate([rows.ub[rows.upper], -rows.lb[rows.lower]])
+    bounds = [(None if np.isinf(lo) else lo, None if np.isinf(hi) else hi)
+              for lo, hi in zip(problem.lower, problem.upper, strict=True)]
+    res = linprog(np.zeros(problem.n), A_ub=A_ub if b_ub.size else None, b_ub=b_ub if b_ub.size else None,
+                  A_eq=A[rows.eq] if rows.eq.size else None, b_eq=rows.lb[rows.eq] if rows.eq.size else None,
+                  bounds=bounds, method="highs")
+    return res.status != 2
 
 
 def _linearised(problem: Problem, st: _State, c: Array | None = None) -> tuple[LinearisedRows, LinearisedRows]:
@@ -417,13 +484,26 @@ def _trial(problem: Problem, ev: Evaluator, x: Array, step: Array) -> Point:
     return ev.point(np.clip(x + step, problem.lower, problem.upper))
 
 
-def _line_search(
-    problem: Problem, options: Options, ev: Evaluator, st: _State, d: Array
-) -> tuple[Point, float, bool] | None:
+@dataclass(frozen=True)
+class _Search:
+    """What a line search gave: the accepted point with its derivatives (``pt is None`` when none was accepted).
+
+    ``nonfinite`` names the user function that returned NaN or inf at the last point tried (None when that point was
+    finite); ``alpha`` is the accepted step length, or the last one tried."""
+
+    pt: Point | None = None
+    der: Derivatives | None = None
+    alpha: float = 0.0
+    soc: bool = False
+    nonfinite: str | None = None
+
+
+def _line_search(problem: Problem, options: Options, ev: Evaluator, st: _State, d: Array) -> _Search:
     """Armijo backtracking on the L1 merit function, with one second-order correction of the full step.
 
-    Returns the accepted point, its step length and whether the correction was used; ``None`` when no step
-    length down to :data:`MIN_STEP_LENGTH` decreases the merit function enough.
+    A point is accepted only when its values and its derivatives are finite: NaN or inf from any user function
+    (objective, constraint, gradient or Jacobian) at a trial point shortens the step. Fails (``pt is None``) when no
+    step length down to :data:`MIN_STEP_LENGTH` decreases the merit function enough.
     """
     rows = problem.nonlinear
     Jd = st.der.J @ d
@@ -437,23 +517,33 @@ def _line_search(
             phi0 = merit(st.pt.f, st.pt.c, rows, st.mu)
             D = directional_derivative(st.der.g, d, st.pt.c, Jd, rows, st.mu)
         if D >= 0.0:
-            return None
+            return _Search()
     alpha = 1.0
     tried_soc = not options.second_order_correction or rows.lb.size == 0
+    nonfinite: str | None = None
+    tried = alpha
     while alpha >= MIN_STEP_LENGTH:
         trial = _trial(problem, ev, st.pt.x, alpha * d)
         if np.array_equal(trial.x, st.pt.x):
-            return None  # the step is below the rounding level of x: no progress is possible along d
+            # the step is below the rounding level of x: no progress is possible along d
+            return _Search(alpha=tried, nonfinite=nonfinite)
+        tried = alpha
+        nonfinite = ev.nonfinite_source(trial)
         phi = merit(trial.f, trial.c, rows, st.mu)
         if phi <= phi0 + ARMIJO * alpha * D:
-            return trial, alpha, False
+            der = ev.derivatives(trial)
+            if der.finite:
+                return _Search(trial, der, alpha, False)
+            nonfinite, phi = ev.nonfinite_source(trial, der), np.inf  # shorten the step as for a NaN value
         if not tried_soc:
             tried_soc = True
             corrected = _second_order_correction(problem, options, ev, st, d, trial)
             if corrected is not None and merit(corrected.f, corrected.c, rows, st.mu) <= phi0 + ARMIJO * D:
-                return corrected, 1.0, True
+                der = ev.derivatives(corrected)
+                if der.finite:
+                    return _Search(corrected, der, 1.0, True)
         alpha = next_step_length(alpha, phi0, D, phi)
-    return None
+    return _Search(alpha=tried, nonfinite=nonfinite)
 
 
 def _second_order_correction(
@@ -503,6 +593,7 @@ def _result(
     x: Array | None = None,
     B: Array | None = None,
     nit: int = 0,
+    detail: str = "",
 ) -> Result:
     n = problem.n
     if pt is None:
@@ -527,6 +618,8 @@ def _result(
     message = status.message
     if status is Status.MAX_ITER:
         message = message.replace("max_iter", f"max_iter (now {nit})")
+    if detail:
+        message = f"{message} {detail}"
     res = Result(
         x=xx.copy(), fun=float(f), jac=g, success=status in (Status.SUCCESS, Status.ACCEPTABLE),
         status=status.code, message=message,

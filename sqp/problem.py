@@ -303,10 +303,7 @@ def _project_start(x: Array, lower: Array, upper: Array) -> Array:
     """``x0`` clipped into the bounds, with a :class:`StartPointWarning` when it was genuinely outside them (a start
     within rounding of a bound, :data:`START_ROUNDING`, is clipped silently)."""
     xs = np.clip(x, lower, upper)
-    moved = np.abs(xs - x)
-    with np.errstate(invalid="ignore"):
-        rounding = START_ROUNDING * np.maximum(1.0, np.abs(xs))
-    outside = np.flatnonzero(moved > rounding)
+    outside = np.flatnonzero(np.abs(xs - x) > START_ROUNDING * np.maximum(1.0, np.abs(xs)))  # xs: the bound
     if outside.size:
         shown = ", ".join(f"x0[{i}] = {x[i]:.6g} not in [{lower[i]:.6g}, {upper[i]:.6g}]" for i in outside[:3])
         more = f" and {outside.size - 3} more" if outside.size > 3 else ""

@@ -18,7 +18,8 @@ class Status(Enum):
     INFEASIBLE = (3, "The constraints could not be satisfied: the solver converged to a point that locally "
                      "minimises the constraint violation but is infeasible.")
     QP_FAILED = (4, "The QP subproblem could not be solved, even in its elastic form; try another qp_solver.")
-    NONFINITE = (5, "The objective or a constraint returned NaN or inf.")
+    NONFINITE = (5, "A user function (the objective, a constraint or a derivative) returned NaN or inf, at the start "
+                    "or at every trial point down to the shortest step.")
     CALLBACK = (6, "Stopped by the callback (StopIteration).")
     SMALL_STEP = (7, "The step became too small to make progress before the KKT residuals fell below tol.")
     LINEAR_INFEASIBLE = (8, "The linear constraints and bounds have no common point.")

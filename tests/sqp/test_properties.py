@@ -233,6 +233,21 @@ def test_a_start_violating_a_row_by_less_than_the_qp_tolerance(qp_solver):
     np.testing.assert_allclose(res.x, [-1e-7, 0.0], atol=1e-12)
 
 
+@pytest.mark.xfail(strict=True, reason=(
+    "found by hypothesis (nightly): BFGS reaches the minimiser (f equal to 1e-15) but rounding in f (|f| = 24) stops "
+    "the line search at scaled stationarity 3.5e-6, above ACCEPTABLE's 1e-6: an honest LINE_SEARCH, not a success; "
+    "the same QP with a LinearConstraint ends ACCEPTABLE"))
+def test_a_dict_form_qp_whose_end_game_is_stopped_by_rounding():
+    P = np.full((5, 5), 3.828125) + 0.25 * np.eye(5)
+    qp = ConvexQP(P=P, q=np.array([0.0, 4.0, 0.0, 0.0, 0.0]), A=np.zeros((0, 5)), b=np.zeros(0),
+                  G=np.eye(5)[:1], h=np.array([0.1]), lo=np.full(5, -np.inf), hi=np.full(5, np.inf),
+                  x_f=np.zeros(5), x0=np.ones(5))
+    res = sqp.minimize(qp.f, qp.x0, qp.grad, Bounds(qp.lo, qp.hi), qp.constraints("nonlinear"))
+    x_ref, _ = qp.reference()
+    assert res.fun == pytest.approx(qp.f(x_ref), rel=1e-12)  # the right point either way
+    assert res.success, res.message
+
+
 # --- convex NLPs with a strictly feasible point -----------------------------------------------------------------------
 
 

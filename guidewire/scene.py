@@ -18,6 +18,9 @@ from typing import Any
 SCHEMES = ("second_order", "paper")
 """Discretisations of the bending energy; see :mod:`guidewire.formulation`."""
 
+S_ROUNDING = 1e-12
+"""A contact within this fraction of the wire length of its end is at the end (rounding in ``k·(L/n)``)."""
+
 def _real(value: Any, name: str) -> float:
     """``value`` as a finite float, or a TypeError/ValueError naming ``name``."""
     if isinstance(value, bool) or not isinstance(value, int | float):
@@ -233,11 +236,14 @@ class Scene:
             raise TypeError(f"scene.wire is {type(self.wire).__name__}; expected guidewire.Wire.")
         if not isinstance(self.base, Base):
             raise TypeError(f"scene.base is {type(self.base).__name__}; expected guidewire.Base.")
-        contacts = tuple(self.contacts)
+        contacts = list(self.contacts)
         walls = tuple(self.walls)
         for i, contact in enumerate(contacts):
             if not isinstance(contact, Contact):
                 raise TypeError(f"scene.contacts[{i}] is {type(contact).__name__}; expected guidewire.Contact.")
+            if contact.s != self.wire.length and abs(contact.s - self.wire.length) <= S_ROUNDING * self.wire.length:
+                # at the end up to rounding (e.g. s = k·(L/n) with k = n): at the end, not a zero-length last bar
+                contact = contacts[i] = replace(contact, s=self.wire.length)
             if not 0.0 < contact.s <= self.wire.length:
                 raise ValueError(
                     f"{contact.label(i)} has s = {_fmt(contact.s)}; contacts need 0 < s ≤ wire.length = "
@@ -256,12 +262,12 @@ class Scene:
         for i, wall in enumerate(walls):
             if not isinstance(wall, Wall):
                 raise TypeError(f"scene.walls[{i}] is {type(wall).__name__}; expected guidewire.Wall.")
+        object.__setattr__(self, "contacts", tuple(contacts))
         if self.wire.bars < len(self.segment_ends()):
             raise ValueError(
                 f"wire.bars is {self.wire.bars} but the contacts split the wire into {len(self.segment_ends())} "
                 "segments; use at least one bar per segment."
             )
-        object.__setattr__(self, "contacts", contacts)
         object.__setattr__(self, "walls", walls)
 
     # ----------------------------------------------------------------------------------------------------------

@@ -119,23 +119,44 @@ def solve(
         return solve_full(scene, scheme=scheme, bars=bars, initial_angles=initial_angles, initial_nodes=initial_nodes,
                           multipliers0=multipliers0, qp_solver=qp_solver, qp_options=qp_options, tol=tol,
                           max_iter=max_iter, verbose=verbose)
-    wall_nodes: Any = "near"
     start = time.perf_counter()
     form = formulate(scene, scheme=scheme, bars=bars, initial_angles=initial_angles, initial_nodes=initial_nodes,
-                     wall_nodes=wall_nodes)
+                     wall_nodes="near")
     backend = qp_solver if qp_solver is not None else default_qp_solver(form.n)
+    options = {"qp_solver": backend, "qp_options": qp_options, "tol": tol, "max_iter": max_iter, "verbose": verbose}
+    form, res = _solve_reduced(form, hessian, multipliers0, options)
+    if hessian == "exact" and res.status in FALLBACK_STATUSES:
+        # Newton–SQP can stall where the exact Lagrangian Hessian is indefinite on the constraints' null space at
+        # poor multiplier estimates (a nearly taut stretch between two points); the paper's damped BFGS, started
+        # from the exact energy Hessian, does not depend on them: solve again from the same start
+        first = f"{sqp.Status.from_code(res.status).name} after {res.nit} exact-Hessian iterations"
+        form_q, res_q = _solve_reduced(formulate(form.scene, initial_angles=form.x0 if initial_angles is None
+                                                 else initial_angles, wall_nodes="near"), "bfgs", None, options)
+        if res_q.success:
+            res_q.message = f"{res_q.message} (damped BFGS; the exact-Hessian run ended {first})"
+            form, res = form_q, res_q
+    return build_solution(form, res, time.perf_counter() - start)
+
+
+#: Outcomes of an exact-Hessian solve after which :func:`solve` tries the damped-BFGS algorithm from the same start.
+FALLBACK_STATUSES = tuple(status.code for status in (
+    sqp.Status.MAX_ITER, sqp.Status.LINE_SEARCH, sqp.Status.SMALL_STEP, sqp.Status.INFEASIBLE, sqp.Status.QP_FAILED))
+
+
+def _solve_reduced(form: Any, hessian: str, multipliers0: Any, options: dict[str, Any]) -> tuple[Any, Any]:
+    """Solve the reduced program of ``form`` with the wall working set: solve, add every node that violates a wall
+    (and its neighbours), solve again from the answer, up to :data:`MAX_WALL_ROUNDS` times."""
     for _ in range(MAX_WALL_ROUNDS):
         args = form.arguments()
         if hessian == "exact":
             args["hess"] = form.hess
         if multipliers0 is not None and [np.size(m) for m in multipliers0] == [b.rows for b in form.blocks]:
             args["multipliers0"] = multipliers0
-        res = sqp.minimize(**args, qp_solver=backend, qp_options=qp_options, tol=tol, max_iter=max_iter,
-                           verbose=verbose)
+        res = sqp.minimize(**args, **options)
         if not form.scene.walls:
             break
         gaps = wall_gaps(form.chain, res.x, form.scene.walls)
-        tolerance = tol * max(1.0, form.scene.wire.length)
+        tolerance = options["tol"] * max(1.0, form.scene.wire.length)
         violated = [np.flatnonzero(g < -tolerance) + 1 for g in gaps]
         if not any(v.size for v in violated):
             break
@@ -143,7 +164,7 @@ def solve(
         wall_nodes = [np.union1d(b.nodes, np.clip(np.concatenate([v - 1, v, v + 1]), 1, form.n))
                       for b, v in zip(form.block("wall"), violated, strict=True)]
         form = formulate(form.scene, initial_angles=res.x, wall_nodes=wall_nodes)
-    return build_solution(form, res, time.perf_counter() - start)
+    return form, res
 
 
 def solve_sequence(scenes: Iterable[Scene], **options: Any) -> list[Solution]:

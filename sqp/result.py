@@ -34,6 +34,14 @@ class Status(Enum):
     def message(self) -> str:
         return self.value[1]
 
+    @classmethod
+    def from_code(cls, code: int) -> Status:
+        """The status whose :attr:`code` is ``code`` (``Result.status``); ValueError for an unknown code."""
+        for status in cls:
+            if status.code == code:
+                return status
+        raise ValueError(f"no sqp.Status has code {code!r}; codes are {[s.code for s in cls]}.")
+
 
 @dataclass(frozen=True)
 class IterationRecord:

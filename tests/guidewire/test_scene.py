@@ -133,3 +133,11 @@ def test_helpers():
     assert [c.point for c in mirrored.contacts] == [(c.point[0], -c.point[1]) for c in scene.contacts]
     assert mirrored.mirrored().contacts == scene.contacts
     assert paper_scenes()["fig6a"].mirrored().walls[0].normal == (1.5, 1.0)
+
+
+def test_a_contact_at_the_end_up_to_rounding_is_at_the_end():
+    length, n = 125.85925307380032, 24
+    for s in (n * (length / n), length * (1 - 1e-15), length * (1 + 1e-15)):
+        scene = _scene(wire=Wire(length, n), contacts=(Contact(s, (60.0, 40.0)),))
+        assert scene.contacts[0].s == length
+    assert _scene(contacts=(Contact(100.0 - 1e-6, (60.0, 40.0)),)).contacts[0].s == 100.0 - 1e-6

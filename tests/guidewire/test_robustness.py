@@ -1,0 +1,46 @@
+"""Scenes that once broke the solver (found by the property tests): each must now be solved, and solved right."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from guidewire import Base, Contact, Scene, Wire, paper_scenes, solve
+
+
+def test_nearly_taut_stretch_between_two_points_is_solved_by_the_bfgs_fallback():
+    # three bars span a chord 0.04 % shorter than themselves: the exact-Hessian Newton-SQP stalls there (the
+    # Lagrangian Hessian is indefinite on the constraints' null space at its early multiplier estimates)
+    scene = Scene(Wire(40.0, 20), Base((0.0, 0.0), 0.0),
+                  (Contact(26.0, (23.73222646196566, 6.140930078963846)),
+                   Contact(32.0, (28.65398708387217, 2.7136899116487796))))
+    sol = solve(scene)
+    assert sol.success, sol.message
+    assert "damped BFGS" in sol.message and "exact-Hessian run ended" in sol.message
+    assert sol.max_violation <= 1e-9 and sol.result.kkt["stationarity"] <= 1e-8
+    bfgs = solve(scene, hessian="bfgs")
+    assert sol.energy == pytest.approx(bfgs.energy, rel=1e-8)
+
+
+@pytest.mark.parametrize("angle", [0.0, 0.5, 1.0, -1.0, 2.5])
+def test_a_straight_taut_wire_is_solved_in_any_orientation(angle):
+    # the start's chord direction is taken in the base angle's winding (atan2 wraps at ±π)
+    scene = Scene(Wire(40.0, 20), Base((0.0, 0.0), 3.0),
+                  (Contact(6.0, (6.0 * math.cos(3.0), 6.0 * math.sin(3.0))),)).rotated(angle)
+    sol = solve(scene)
+    assert sol.success, sol.message
+    assert sol.energy == pytest.approx(0.0, abs=1e-12)
+    np.testing.assert_allclose(sol.bar_angles, 3.0 + angle, atol=1e-9)
+
+
+def test_prescribed_angles_are_literal_a_full_turn_more_is_a_loop():
+    base = paper_scenes()["table1_pi_4"].with_scheme("paper")
+    contact = base.contacts[0]
+    looped = Scene(base.wire, base.base, (Contact(contact.s, contact.point, contact.angle + 2.0 * math.pi),))
+    plain, loop = solve(base), solve(looped)
+    assert plain.success and loop.success, (plain.message, loop.message)
+    assert loop.bar_angles[-1] == pytest.approx(contact.angle + 2.0 * math.pi, abs=1e-9)
+    assert loop.bar_angles[-1] - loop.bar_angles[0] > 2.0 * math.pi - 1.0  # the wire turns a full loop more
+    assert loop.energy > 5.0 * plain.energy

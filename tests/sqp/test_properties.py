@@ -218,14 +218,11 @@ def test_random_convex_qps_match_an_independent_qp_solver(qp, form):
     assert kkt_violation(qp.grad(res.x), res.x, blocks, res.bound_multipliers, qp.lo, qp.hi) <= 1e-6 * grad_scale
 
 
-@pytest.mark.parametrize("qp_solver", [
-    pytest.param("daqp", marks=pytest.mark.xfail(strict=True, reason=(
-        "found by hypothesis: DAQP (the default backend) treats a row violated by less than its primal_tol = 1e-6 as "
-        "satisfied, so the QP step is d = 0 and the solve ends SMALL_STEP at the start, infeasible by 1e-7 (honest, "
-        "but unsolved); tightening primal_tol moves HS116 to another local minimum, so it is left as is"))),
-    "quadprog",
-])
+@pytest.mark.parametrize("qp_solver", ["daqp", "quadprog"])
 def test_a_start_violating_a_row_by_less_than_the_qp_tolerance(qp_solver):
+    # found by hypothesis: DAQP treats a row violated by less than its primal_tol = 1e-6 as satisfied, so its step was
+    # d = 0 and the solve ended SMALL_STEP, infeasible by 1e-7; an answer that leaves the violation where it was now
+    # goes to the next backend
     res = sqp.minimize(lambda x: 0.5 * x @ x, [0.0, 0.0], lambda x: x, qp_solver=qp_solver,
                        constraints=[{"type": "ineq", "fun": lambda x: np.array([-1e-7 - x[0]]),
                                      "jac": lambda x: np.array([[-1.0, 0.0]])}])

@@ -8,8 +8,9 @@ Continuum checks (any discretisation):
 - **reach**: consecutive prescribed positions (the base and every contact with a point) no farther apart than the
   wire between them;
 - **walls**: the base and every contact point inside every wall;
-- **taut**: where two positions are exactly as far apart as the wire between them, that wire must be the straight
-  chord, so every prescribed angle at its ends or between them must be the chord's direction.
+- **taut**: where two positions are as far apart as the wire between them (to a relative 1e-9), that wire must be
+  the straight chord, so every prescribed angle at its ends or between them must be the chord's direction, up to the
+  turn ``acos(1 − slack/l)`` the remaining slack allows one bar of length ``l``.
 
 Discrete checks (the scene's own ``bars`` and ``scheme``; :func:`guidewire.chain.place_bars` puts a node at every
 contact). A prescribed tangent is an *anchor* at a position along the chain counted in joints: the base angle at 0
@@ -42,7 +43,8 @@ FEASIBILITY_SLACK = 1e-9
 """Relative slack (of the wire length involved) allowed before a distance or a turn counts as out of reach."""
 
 TAUT_ANGLE_TOLERANCE = 1e-6
-"""A prescribed angle at a taut stretch of wire may differ from the chord direction by this much (rad)."""
+"""A prescribed angle at a taut stretch of wire may differ from the chord direction by this much (rad), or by the turn
+the remaining slack allows one bar, whichever is larger."""
 
 
 def _fmt(value: float) -> str:
@@ -96,17 +98,22 @@ def walls(scene: Scene) -> str | None:
 def taut_angles(scene: Scene) -> str | None:
     """A stretch of wire pulled straight between two positions, with a prescribed angle off its chord."""
     points = _positions(scene)
+    lengths, nodes = place_bars(scene.wire.length, scene.wire.bars, [c.s for c in scene.contacts])
+    node_of = {-1: 0, **{i: int(k) for i, k in enumerate(nodes)}}
     for (name_a, s_a, p_a, i_a), (name_b, s_b, p_b, i_b) in zip(points, points[1:], strict=False):
         distance = math.dist(p_a, p_b)
         available = s_b - s_a
         if distance < available * (1.0 - FEASIBILITY_SLACK):
             continue
+        # what slack there is lets one bar turn by up to acos(1 − slack / l): a kink the scene's bars can make
+        bar = float(lengths[node_of[i_a]])
+        tolerance = max(TAUT_ANGLE_TOLERANCE, math.acos(max(-1.0, 1.0 - max(available - distance, 0.0) / bar)))
         chord = math.atan2(p_b[1] - p_a[1], p_b[0] - p_a[0])
         angled = [(name_a, scene.base.angle if i_a < 0 else scene.contacts[i_a].angle)]
         angled += [(c.label(i), c.angle) for i, c in enumerate(scene.contacts) if s_a < c.s < s_b and c.point is None]
         angled.append((name_b, scene.contacts[i_b].angle))
         for name, angle in angled:
-            if angle is not None and _angle_gap(angle, chord) > TAUT_ANGLE_TOLERANCE:
+            if angle is not None and _angle_gap(angle, chord) > tolerance:
                 return (
                     f"{_point_label(name_a, p_a, s_a)} and {_point_label(name_b, p_b, s_b)} are {distance:.6g} mm "
                     f"apart with {available:.6g} mm of wire between them, so that wire must be straight along "

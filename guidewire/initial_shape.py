@@ -134,9 +134,18 @@ def _segment_angles(
     length = float(lengths.sum())
     u_mid = (np.cumsum(lengths) - 0.5 * lengths) / length
     chord = np.hypot(*(p1 - p0))
-    if chord >= length * (1.0 - 1e-9):
+    if chord >= length * (1.0 - NEARLY_TAUT):
         straight = a0 + _wrap(math.atan2(p1[1] - p0[1], p1[0] - p0[0]) - a0)  # the chord, in a0's winding
-        return np.full(lengths.size, straight), (straight if a1_free else a1)
+        if chord >= length * (1.0 - TAUT_ROUNDING):  # taut up to rounding: the straight chord
+            return np.full(lengths.size, straight), (straight if a1_free else a1)
+        # nearly taut: the circular arc of this length through both points (turning 2x, sin(x)/x = chord/length),
+        # bulging towards the given end tangent; a straight start would make the position rows' Jacobian lose rank
+        x = math.sqrt(6.0 * (1.0 - chord / length))
+        for _ in range(3):
+            x -= (math.sin(x) / x - chord / length) / ((x * math.cos(x) - math.sin(x)) / (x * x))
+        side = 1.0 if _wrap(straight - a0) >= 0.0 else -1.0
+        angles = straight + side * x * (2.0 * u_mid - 1.0)
+        return angles, (straight + side * x if a1_free else a1)
     best, best_energy, end = np.zeros(2), np.inf, a1
     for offset in (0.0, *END_TANGENT_OFFSETS) if a1_free else (0.0,):
         c, miss, energy = _segment_curves(p0, p1, a0, a1 + offset, length)
@@ -149,6 +158,10 @@ def _segment_angles(
     angles = a0 + (end - a0) * u_mid + best[0] * np.sin(np.pi * u_mid) + best[1] * np.sin(2.0 * np.pi * u_mid)
     return angles, end
 
+
+NEARLY_TAUT, TAUT_ROUNDING = 1e-6, 1e-14
+"""A segment whose chord is within ``NEARLY_TAUT`` of its length starts as the circular arc through its end points,
+unless it is within ``TAUT_ROUNDING`` (taut up to rounding): then as the straight chord."""
 
 END_TANGENT_OFFSETS = np.pi * np.array([0.25, -0.25, 0.5, -0.5, 0.75, -0.75, 1.0])
 """Offsets from an estimated end tangent tried when no start curve closes with the estimate itself."""

@@ -44,3 +44,28 @@ def test_prescribed_angles_are_literal_a_full_turn_more_is_a_loop():
     assert loop.bar_angles[-1] == pytest.approx(contact.angle + 2.0 * math.pi, abs=1e-9)
     assert loop.bar_angles[-1] - loop.bar_angles[0] > 2.0 * math.pi - 1.0  # the wire turns a full loop more
     assert loop.energy > 5.0 * plain.energy
+
+
+def _arc_point(s: float, curvature: float, angle: float) -> tuple[float, float]:
+    """The point at arc length ``s`` of a circular arc from the origin with tangent ``angle`` there."""
+    x, y = math.sin(curvature * s) / curvature, (1.0 - math.cos(curvature * s)) / curvature
+    return (x * math.cos(angle) - y * math.sin(angle), x * math.sin(angle) + y * math.cos(angle))
+
+
+@pytest.mark.parametrize("slack", [1e-4, 1e-7, 1e-9, 1e-11, 1e-12])
+@pytest.mark.parametrize("base_angle", [2.0, None])
+def test_nearly_taut_wire_between_two_points_is_solved_in_a_few_iterations(slack, base_angle):
+    # points on a very shallow circular arc: the chord of the whole arc is (1 - slack) times its length. A straight
+    # start (the old one) made the position rows' Jacobian lose rank and ended LINE_SEARCH at iteration 0; the
+    # taut-angle check rejected slack 1e-8 with the base angle, which the slack does allow
+    s1, s2 = 11.79, 50.11
+    curvature = math.sqrt(24.0 * slack) / s2
+    scene = Scene(Wire(70.75, 48), Base((0.0, 0.0), base_angle),
+                  (Contact(s1, _arc_point(s1, curvature, 2.0)), Contact(s2, _arc_point(s2, curvature, 2.0))))
+    assert scene.infeasibility() is None
+    sol = solve(scene)
+    assert sol.success, sol.message
+    assert sol.iterations <= 8 and "BFGS" not in sol.message
+    assert sol.max_violation <= 1e-10
+    # the energy of the discrete arc the points lie on bounds the minimum (EI κ² / 2 over the clamped part)
+    assert sol.energy <= 0.5 * scene.wire.bending_stiffness * curvature**2 * s2 * (1.0 + 1e-3)

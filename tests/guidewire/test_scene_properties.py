@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from guidewire import Base, Contact, Scene, Wall, Wire, solve
@@ -32,6 +32,9 @@ MIN_GAP = 0.15
 """Smallest distance between contacts (and from the base to the first), as a fraction of the wire length."""
 
 finite = {"allow_nan": False, "allow_infinity": False}
+
+EXAMPLES = 3 * settings.default.max_examples
+"""Examples per test: 60 with the ci profile (about 5 s), 1500 with nightly."""
 
 
 @st.composite
@@ -59,6 +62,13 @@ def chain_scenes(draw):
     m = draw(st.integers(2, 6), label="contacts")
     ks = sorted(draw(st.sets(st.integers(gap, n), min_size=1, max_size=m), label="contact nodes"))
     ks = [k for i, k in enumerate(ks) if i == 0 or k - ks[i - 1] >= gap]
+    if np.ptp(phi) > 0.0:  # a chain straight to rounding is kept: its stretches are exactly taut, a clean case
+        # a stretch between two positions with a relative slack below 1e-10 leaves a feasible set that is nearly a
+        # single point, where no constraint qualification holds (multipliers need not exist): not a fair demand
+        held = [0, *ks]
+        chords = np.hypot(*(nodes[held[1:]] - nodes[held[:-1]]).T)
+        spans = np.diff(held) * (length / n)
+        assume(bool(np.all(1.0 - chords / spans >= 1e-10)))
     contacts = []
     for k in ks:
         with_angle = draw(st.booleans(), label=f"angle at node {k}")
@@ -79,6 +89,7 @@ def chain_scenes(draw):
     return scene, phi
 
 
+@settings(max_examples=EXAMPLES)
 @given(chain_scenes())
 def test_random_feasible_scene_is_solved_at_or_below_the_generating_energy(case):
     scene, phi = case
@@ -92,6 +103,7 @@ def test_random_feasible_scene_is_solved_at_or_below_the_generating_energy(case)
     assert sol.energy <= generating_energy * (1.0 + 1e-7) + 1e-12
 
 
+@settings(max_examples=EXAMPLES)
 @given(chain_scenes(), st.floats(-math.pi, math.pi, **finite), st.tuples(st.floats(-30, 30), st.floats(-30, 30)))
 def test_mirrored_and_rotated_scenes_give_mirrored_and_rotated_shapes(case, angle, center):
     scene, _ = case
@@ -112,3 +124,16 @@ def test_mirrored_and_rotated_scenes_give_mirrored_and_rotated_shapes(case, angl
     np.testing.assert_allclose(rotated.nodes, (sol.nodes - center) @ turn.T + center, atol=tol)
     np.testing.assert_allclose(rotated.bar_angles, sol.bar_angles + angle, atol=1e-6)
     assert rotated.energy == pytest.approx(sol.energy, rel=1e-7, abs=energy_tol)
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "found by hypothesis (nightly): two position-only contacts on a gently arched chain; the default start bends the "
+    "wire into an S and Newton-SQP converges to that local minimum (energy 8.36 N·mm, a strict minimum: success is "
+    "right) while the generating chain, feasible, has 6.09 and another minimum 5.93 — a local method's limit"))
+def test_known_local_minimum_above_the_generating_chain():
+    scene = Scene(Wire(40.0, 20), Base((0.0, 0.0), 0.0),
+                  (Contact(28.0, (25.419008962750265, 5.066330248772704)),
+                   Contact(40.0, (36.04866403108162, -2.220446049250313e-16))))
+    sol = solve(scene)
+    assert sol.success, sol.message
+    assert sol.energy <= 6.0946257379933

@@ -181,14 +181,18 @@ def _free_part_angles(scene: Scene, start: FloatArray, angle: float, lengths: Fl
     kappa = kappa[order]
     phi = angle + kappa[:, None] * s_mid[None, :]  # (T, m)
     nodes = start + np.cumsum(lengths[None, :, None] * np.stack((np.cos(phi), np.sin(phi)), axis=-1), axis=1)
-    feasible = np.ones(kappa.size, dtype=bool)
+    gap = np.full(kappa.size, np.inf)  # the least distance of any node inside any wall, per trial curvature
     for wall in scene.walls:
         (nx, ny), offset = wall.unit()
-        feasible &= np.all(nodes[..., 0] * nx + nodes[..., 1] * ny <= offset, axis=1)
+        gap = np.minimum(gap, np.min(offset - (nodes[..., 0] * nx + nodes[..., 1] * ny), axis=1))
+    feasible = gap >= 0.0
     if not feasible.any():
         return phi[0]
-    first = int(np.argmax(feasible))
-    return angle + WALL_MARGIN * kappa[first] * s_mid
+    # the least |κ| that clears the walls; of its two signs (when both do) the one farther from them, so that the
+    # start of a mirrored scene is the mirrored start
+    least = np.flatnonzero(feasible & (np.abs(kappa) == np.abs(kappa[int(np.argmax(feasible))])))
+    pick = int(least[np.argmax(gap[least])])
+    return angle + WALL_MARGIN * kappa[pick] * s_mid
 
 
 def initial_angles(scene: Scene, chain: BarChain, contact_nodes: NDArray[np.int_]) -> FloatArray:

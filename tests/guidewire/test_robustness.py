@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from guidewire import Base, Contact, Scene, Wire, paper_scenes, solve
+from guidewire import Base, Contact, Scene, Wall, Wire, paper_scenes, solve
 
 
 def test_nearly_taut_stretch_between_two_points_is_solved_by_the_bfgs_fallback():
@@ -69,3 +69,14 @@ def test_nearly_taut_wire_between_two_points_is_solved_in_a_few_iterations(slack
     assert sol.max_violation <= 1e-10
     # the energy of the discrete arc the points lie on bounds the minimum (EI κ² / 2 over the clamped part)
     assert sol.energy <= 0.5 * scene.wire.bending_stiffness * curvature**2 * s2 * (1.0 + 1e-3)
+
+
+def test_mirrored_wall_scene_gives_the_mirrored_shape():
+    # found by hypothesis (nightly): the free part's start curved towards +κ whenever both signs cleared the wall, so
+    # the mirrored scene started (and ended) on another branch, 42 mm away
+    scene = Scene(Wire(40.0, 20), Base((0.0, 0.0), 2.1875), (Contact(6.0, (-4.345432334959481, 4.097300514564373)),),
+                  (Wall((-0.8369595530782943, 0.5472647499254653), 24.226805831418574),))
+    sol, mirrored = solve(scene), solve(scene.mirrored())
+    assert sol.success and mirrored.success
+    np.testing.assert_allclose(mirrored.nodes, sol.nodes * [1.0, -1.0], atol=1e-9)
+    assert mirrored.energy == pytest.approx(sol.energy, rel=1e-12)

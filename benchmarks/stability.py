@@ -24,7 +24,8 @@ clamp A (0, 0) along +x, contact B (60, 40) at s = L = 100 mm; EI = 64.65 N·mm�
 - ``b₂ just feasible``: Table 1 with ``max_relative_angle`` = the smallest b₂ found feasible by bisection (feasible:
   our solve at tol 1e-12, capped at 100 iterations, succeeds at a point violating no row by more than 1e-9), stated
   in the row; the same scene at 0.999 × that b₂ (infeasible by a hair if the bisection is right); and a b₂ that is
-  provably infeasible (the node turns cannot add up to θ_B − θ_A): the solve must end in an honest failure.
+  provably infeasible (the node turns cannot add up to θ_B − θ_A): the scene must be rejected before solving (or
+  the solve end in an honest failure).
 
 Per case: status code and name, success flag, the KKT residuals of ``solution.result.kkt`` (largest of
 stationarity, feasibility, complementarity), largest constraint violation, energy, solve time, and — where the
@@ -170,9 +171,8 @@ def cases() -> list[StabilityCase]:
         StabilityCase("θ_B = −(π − 0.01)", lambda: table1(-(pi - 0.01))),
         StabilityCase("two contacts one bar apart (s = 50, 51; n = 100)", one_bar_apart,
                       note="the rigid bar between the two contacts must span their chord exactly, and the continuum "
-                      "chord is 1.3e-4 mm shorter than the 1 mm bar: the discrete problem is infeasible by a hair "
-                      "(Scene.check_feasible only rejects chords longer than the wire), so failing is right; the "
-                      "status should say so"),
+                      "chord is 1.3e-4 mm shorter than the 1 mm bar: the discrete problem is infeasible by a hair; "
+                      "Scene.check_feasible says so before solving"),
         StabilityCase("wavy: 12 contacts on y = 5 sin(2πx/40)", wavy),
         StabilityCase("wall x ≤ 10 bends a 300 mm wire (n = 300)", wall_bend),
         StabilityCase("wall as above, tilted by 0.05 rad", lambda: wall_bend(tilt=0.05)),
@@ -183,7 +183,8 @@ def cases() -> list[StabilityCase]:
         StabilityCase("n = 3, second_order", lambda: table1().with_bars(3), expect_agreement=False),
         StabilityCase("n = 2, paper scheme", lambda: table1().with_bars(2).with_scheme("paper"),
                       expect_agreement=False,
-                      note="infeasible: with φ₂ = π/4 fixed, bar 1 (50 mm) would have to reach a point 25.07 mm away"),
+                      note="infeasible: with φ₂ = π/4 fixed, bar 1 (50 mm) would have to reach a point 25.07 mm "
+                           "away; Scene.check_feasible says so before solving"),
         StabilityCase("n = 3, paper scheme", lambda: table1().with_bars(3).with_scheme("paper"),
                       expect_agreement=False),
         StabilityCase("b₂ just feasible (bisection)", table1, reference=False, b2_factor=1.0, timeout=300.0),

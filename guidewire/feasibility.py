@@ -21,7 +21,9 @@ bars) or ``n + 1`` at the tip (the half joint ``θ* − φ_n`` is bounded by b�
 - **turning**: with ``|Δθ| ≤ b₂`` per joint, two anchors ``d`` joints apart can differ by at most ``d·b₂``;
 - **discrete reach**: every bar angle lies in an interval (each anchor allows ``|φ_j − θ| ≤ |j − pos|·b₂``), so
   the bars between two prescribed positions reach at most ``Σ l_j max_{φ ∈ I_j} cos(φ − ψ)`` along their chord
-  direction ``ψ``; and a single bar between two positions must be exactly as long as their distance.
+  direction ``ψ``; and where every bar between two positions is either fixed by a prescribed angle or free, the free
+  ones (rigid) must span what the fixed ones leave: between the longest minus the rest and their sum (a single bar:
+  exactly its length).
 """
 
 from __future__ import annotations
@@ -188,11 +190,24 @@ def discrete_reach(scene: Scene) -> str | None:
         delta = np.subtract(p_b, p_a)
         distance = float(np.hypot(*delta))
         pair = f"{_point_label(name_a, p_a, s_a)} and {_point_label(name_b, p_b, s_b)}"
-        if b - a == 1 and abs(distance - lengths[a]) > FEASIBILITY_SLACK * total:
-            return (
-                f"{pair} are {distance:.6g} mm apart with one bar of {lengths[a]:.6g} mm between them in the "
-                f"{n}-bar chain: a rigid bar spans exactly its length; use more bars"
-            )
+        pinned = hi[a:b] - lo[a:b] <= 0.0  # bars whose angle a prescribed angle fixes (paper scheme)
+        free = ~np.isfinite(hi[a:b] - lo[a:b])  # bars free to turn all the way round
+        if np.all(pinned | free):
+            # rigid bars: the free ones must span what the pinned ones leave, a distance between the longest free
+            # bar minus the others and their sum (a single bar: exactly its length)
+            seg = lengths[a:b]
+            rest = delta - seg[pinned] @ np.column_stack((np.cos(lo[a:b][pinned]), np.sin(lo[a:b][pinned])))
+            need = float(np.hypot(*rest))
+            longest, reach_free = float(seg[free].max(initial=0.0)), float(seg[free].sum())
+            shortest = max(0.0, 2.0 * longest - reach_free)
+            if not shortest - FEASIBILITY_SLACK * total <= need <= reach_free + FEASIBILITY_SLACK * total:
+                what = (f"one bar of {longest:.6g} mm" if free.sum() == 1 else
+                        f"{int(free.sum())} bars that span {shortest:.6g} to {reach_free:.6g} mm")
+                fixed = f" besides the {int(pinned.sum())} bar(s) a prescribed angle fixes" if pinned.any() else ""
+                return (
+                    f"{pair} are {distance:.6g} mm apart; between them in the {n}-bar chain{fixed} there is {what}, "
+                    f"which must span {need:.6g} mm: rigid bars cannot; use more bars or move a contact"
+                )
         psi = math.atan2(delta[1], delta[0])
         reach = float(lengths[a:b] @ _best_cosine(lo[a:b], hi[a:b], psi))
         if distance > reach + FEASIBILITY_SLACK * total:

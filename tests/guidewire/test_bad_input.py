@@ -92,7 +92,10 @@ CASES = {
     "one bar between two points of another distance": (
         edit("bars = 50", "bars = 2").replace("point = [60.0, 40.0]\nangle = 0.785398", "point = [99.9, 0.0]")
         .replace("[[contact]]", "[[contact]]\ns = 50.0\npoint = [50.0, 0.0]\n\n[[contact]]", 1),
-        "a rigid bar spans exactly its length"),
+        "there is one bar of 50 mm, which must span 49.9 mm: rigid bars cannot"),
+    "paper scheme, two bars, one fixed by the contact angle": (
+        edit("bars = 50", "bars = 2\nscheme = 'paper'"),
+        "besides the 1 bar(s) a prescribed angle fixes there is one bar of 50 mm, which must span 25.07"),
 }
 
 

@@ -130,7 +130,7 @@ def solve(
         # poor multiplier estimates (a nearly taut stretch between two points); the paper's damped BFGS, started
         # from the exact energy Hessian, does not depend on them: solve again from the same start
         first = f"{sqp.Status.from_code(res.status).name} after {res.nit} exact-Hessian iterations"
-        budget = {**options, "max_iter": max(FALLBACK_MIN_ITER, max_iter // 5)}  # an honest failure stays quick
+        budget = {**options, "max_iter": min(max_iter, max(FALLBACK_MIN_ITER, max_iter // 5))}  # (a failure: quick)
         form_q, res_q = _solve_reduced(formulate(form.scene, initial_angles=form.x0 if initial_angles is None
                                                  else initial_angles, wall_nodes="near"), "bfgs", None, budget)
         if res_q.success:
@@ -139,8 +139,9 @@ def solve(
     return build_solution(form, res, time.perf_counter() - start)
 
 
-#: The damped-BFGS retry of :func:`solve` may take ``max(FALLBACK_MIN_ITER, max_iter // 5)`` iterations (it needed
-#: 12 where the exact-Hessian run stalled; an infeasible scene fails twice, the second time quickly).
+#: The damped-BFGS retry of :func:`solve` may take ``min(max_iter, max(FALLBACK_MIN_ITER, max_iter // 5))``
+#: iterations (it needed 12 where the exact-Hessian run stalled; an infeasible scene fails twice, the second time
+#: quickly; the user's ``max_iter`` is never exceeded).
 FALLBACK_MIN_ITER = 50
 
 #: Outcomes of an exact-Hessian solve after which :func:`solve` tries the damped-BFGS algorithm from the same start.

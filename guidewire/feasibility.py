@@ -176,6 +176,8 @@ def discrete_reach(scene: Scene) -> str | None:
     lengths, nodes = place_bars(scene.wire.length, n, [c.s for c in scene.contacts])
     anchors = _anchors(scene, nodes)
     b2 = math.inf if scene.wire.max_relative_angle is None else scene.wire.max_relative_angle
+    if b2 == math.inf and scene.wire.scheme != "paper":
+        anchors = []  # no angle bounds a bar: every bar is free (the fast path of the common case)
     j = np.arange(1, n + 1, dtype=float)
     lo, hi = np.full(n, -np.inf), np.full(n, np.inf)
     for pos, theta, _ in anchors:

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from typing import Any
 
 SCHEMES = ("second_order", "paper")
@@ -285,6 +286,11 @@ class Scene:
         between them, the base and contact points inside every wall, a taut stretch of wire straight along its chord,
         prescribed angles within the turning ``b₂`` allows, and positions within reach of the scene's bars.
         """
+        return self._infeasibility
+
+    @cached_property
+    def _infeasibility(self) -> str | None:
+        """:meth:`infeasibility`, computed once per scene (a scene is immutable; a solve may ask several times)."""
         from .feasibility import infeasibility
 
         return infeasibility(self)

@@ -29,6 +29,7 @@ bars) or ``n + 1`` at the tip (the half joint ``θ* − φ_n`` is bounded by b�
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -62,6 +63,12 @@ def _positions(scene: Scene) -> list[tuple[str, float, tuple[float, float], int]
     out = [(scene.base.name or "base", 0.0, scene.base.point, -1)]
     out += [(c.label(i), c.s, c.point, i) for i, c in enumerate(scene.contacts) if c.point is not None]
     return out
+
+
+@lru_cache(maxsize=8)
+def _bars(scene: Scene) -> tuple[FloatArray, NDArray[np.int_]]:
+    """:func:`~guidewire.chain.place_bars` of the scene (bar lengths, contact nodes), shared by the checks."""
+    return place_bars(scene.wire.length, scene.wire.bars, [c.s for c in scene.contacts])
 
 
 def _angle_gap(a: float, b: float) -> float:
@@ -100,7 +107,7 @@ def walls(scene: Scene) -> str | None:
 def taut_angles(scene: Scene) -> str | None:
     """A stretch of wire pulled straight between two positions, with a prescribed angle off its chord."""
     points = _positions(scene)
-    lengths, nodes = place_bars(scene.wire.length, scene.wire.bars, [c.s for c in scene.contacts])
+    lengths, nodes = _bars(scene)
     node_of = {-1: 0, **{i: int(k) for i, k in enumerate(nodes)}}
     for (name_a, s_a, p_a, i_a), (name_b, s_b, p_b, i_b) in zip(points, points[1:], strict=False):
         distance = math.dist(p_a, p_b)
@@ -147,7 +154,7 @@ def turning(scene: Scene) -> str | None:
     b2 = scene.wire.max_relative_angle
     if b2 is None:
         return None
-    _, nodes = place_bars(scene.wire.length, scene.wire.bars, [c.s for c in scene.contacts])
+    _, nodes = _bars(scene)
     anchors = _anchors(scene, nodes)
     for (pos_a, th_a, name_a), (pos_b, th_b, name_b) in zip(anchors, anchors[1:], strict=False):
         joints = pos_b - pos_a
@@ -173,20 +180,31 @@ def _best_cosine(lo: FloatArray, hi: FloatArray, psi: float) -> FloatArray:
 def discrete_reach(scene: Scene) -> str | None:
     """Two prescribed positions the bars between them cannot join, given the anchors and b₂."""
     n = scene.wire.bars
-    lengths, nodes = place_bars(scene.wire.length, n, [c.s for c in scene.contacts])
+    lengths, nodes = _bars(scene)
     anchors = _anchors(scene, nodes)
     b2 = math.inf if scene.wire.max_relative_angle is None else scene.wire.max_relative_angle
-    if b2 == math.inf and scene.wire.scheme != "paper":
-        anchors = []  # no angle bounds a bar: every bar is free (the fast path of the common case)
+    total = float(scene.wire.length)
+    points = _positions(scene)
+    node_of = {-1: 0, **{i: int(k) for i, k in enumerate(nodes)}}
+    if b2 == math.inf and (scene.wire.scheme != "paper" or not anchors):
+        # no angle bounds a bar: every bar is free, and with equal bars between two positions (one segment) only a
+        # single bar has a least reach (its length; the most is the continuum check's)
+        for (name_a, s_a, p_a, i_a), (name_b, s_b, p_b, i_b) in zip(points, points[1:], strict=False):
+            a, b = node_of[i_a], node_of[i_b]
+            distance = math.dist(p_a, p_b)
+            if b - a == 1 and abs(distance - lengths[a]) > FEASIBILITY_SLACK * total:
+                return (
+                    f"{_point_label(name_a, p_a, s_a)} and {_point_label(name_b, p_b, s_b)} are {distance:.6g} mm "
+                    f"apart; between them in the {n}-bar chain there is one bar of {lengths[a]:.6g} mm, which must "
+                    f"span {distance:.6g} mm: rigid bars cannot; use more bars or move a contact"
+                )
+        return None
     j = np.arange(1, n + 1, dtype=float)
     lo, hi = np.full(n, -np.inf), np.full(n, np.inf)
     for pos, theta, _ in anchors:
         dist = np.abs(j - pos)
         reach = dist * b2 if math.isfinite(b2) else np.where(dist == 0.0, 0.0, np.inf)
         lo, hi = np.maximum(lo, theta - reach), np.minimum(hi, theta + reach)
-    total = float(scene.wire.length)
-    points = _positions(scene)
-    node_of = {-1: 0, **{i: int(k) for i, k in enumerate(nodes)}}
     for (name_a, s_a, p_a, i_a), (name_b, s_b, p_b, i_b) in zip(points, points[1:], strict=False):
         a, b = node_of[i_a], node_of[i_b]
         delta = np.subtract(p_b, p_a)

@@ -97,7 +97,9 @@ def solve(
     Solution
         Also when the solver fails: then ``success`` is False and ``status``/``message`` say why. Walls are
         constrained through a working set of nodes (those near the wall at the start, plus any found violating it),
-        and the returned shape is checked against every wall at every node.
+        and the returned shape is checked against every wall at every node. When the exact-Hessian solve of the
+        reduced program stalls (:data:`FALLBACK_STATUSES`), it is solved again from the same start with damped BFGS
+        (at most ``min(max_iter, max(50, max_iter // 5))`` iterations); a success that way says so in ``message``.
 
     Raises
     ------
@@ -124,6 +126,7 @@ def solve(
                      wall_nodes="near")
     backend = qp_solver if qp_solver is not None else default_qp_solver(form.n)
     options = {"qp_solver": backend, "qp_options": qp_options, "tol": tol, "max_iter": max_iter, "verbose": verbose}
+    start_angles = form.x0
     form, res = _solve_reduced(form, hessian, multipliers0, options)
     if hessian == "exact" and res.status in FALLBACK_STATUSES:
         # Newton–SQP can stall where the exact Lagrangian Hessian is indefinite on the constraints' null space at
@@ -131,8 +134,8 @@ def solve(
         # from the exact energy Hessian, does not depend on them: solve again from the same start
         first = f"{sqp.Status.from_code(res.status).name} after {res.nit} exact-Hessian iterations"
         budget = {**options, "max_iter": min(max_iter, max(FALLBACK_MIN_ITER, max_iter // 5))}  # (a failure: quick)
-        form_q, res_q = _solve_reduced(formulate(form.scene, initial_angles=form.x0 if initial_angles is None
-                                                 else initial_angles, wall_nodes="near"), "bfgs", None, budget)
+        form_q, res_q = _solve_reduced(formulate(form.scene, initial_angles=start_angles, wall_nodes="near"), "bfgs",
+                                       None, budget)
         if res_q.success:
             res_q.message = f"{res_q.message} (damped BFGS; the exact-Hessian run ended {first})"
             form, res = form_q, res_q

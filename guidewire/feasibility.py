@@ -177,6 +177,12 @@ def _best_cosine(lo: FloatArray, hi: FloatArray, psi: float) -> FloatArray:
     return np.where(contains, 1.0, ends)
 
 
+def _rigid(pair: str, distance: float, n: int, fixed: str, what: str, need: float) -> str:
+    """The message of rigid bars that cannot span what two positions need."""
+    return (f"{pair} are {distance:.6g} mm apart; between them in the {n}-bar chain{fixed} there is {what}, which must "
+            f"span {need:.6g} mm: rigid bars cannot; use more bars or move a contact")
+
+
 def discrete_reach(scene: Scene) -> str | None:
     """Two prescribed positions the bars between them cannot join, given the anchors and b₂."""
     n = scene.wire.bars
@@ -193,11 +199,8 @@ def discrete_reach(scene: Scene) -> str | None:
             a, b = node_of[i_a], node_of[i_b]
             distance = math.dist(p_a, p_b)
             if b - a == 1 and abs(distance - lengths[a]) > FEASIBILITY_SLACK * total:
-                return (
-                    f"{_point_label(name_a, p_a, s_a)} and {_point_label(name_b, p_b, s_b)} are {distance:.6g} mm "
-                    f"apart; between them in the {n}-bar chain there is one bar of {lengths[a]:.6g} mm, which must "
-                    f"span {distance:.6g} mm: rigid bars cannot; use more bars or move a contact"
-                )
+                pair = f"{_point_label(name_a, p_a, s_a)} and {_point_label(name_b, p_b, s_b)}"
+                return _rigid(pair, distance, n, "", f"one bar of {lengths[a]:.6g} mm", distance)
         return None
     j = np.arange(1, n + 1, dtype=float)
     lo, hi = np.full(n, -np.inf), np.full(n, np.inf)
@@ -224,10 +227,7 @@ def discrete_reach(scene: Scene) -> str | None:
                 what = (f"one bar of {longest:.6g} mm" if free.sum() == 1 else
                         f"{int(free.sum())} bars that span {shortest:.6g} to {reach_free:.6g} mm")
                 fixed = f" besides the {int(pinned.sum())} bar(s) a prescribed angle fixes" if pinned.any() else ""
-                return (
-                    f"{pair} are {distance:.6g} mm apart; between them in the {n}-bar chain{fixed} there is {what}, "
-                    f"which must span {need:.6g} mm: rigid bars cannot; use more bars or move a contact"
-                )
+                return _rigid(pair, distance, n, fixed, what, need)
         psi = math.atan2(delta[1], delta[0])
         reach = float(lengths[a:b] @ _best_cosine(lo[a:b], hi[a:b], psi))
         if distance > reach + FEASIBILITY_SLACK * total:

@@ -6,26 +6,32 @@
 (True, 4.55)
 
 Modules: :mod:`~guidewire.scene` (values), :mod:`~guidewire.scene_file` (TOML), :mod:`~guidewire.chain`
-(kinematics), :mod:`~guidewire.energy` (the two schemes), :mod:`~guidewire.formulation` (the NLP),
-:mod:`~guidewire.initial_shape` (the start), :mod:`~guidewire.solve` and :mod:`~guidewire.result`,
-:mod:`~guidewire.reference` (the exact continuum elastica), :mod:`~guidewire.paper` (the paper's scenes),
-:mod:`~guidewire.plot` (figures, needs matplotlib), :mod:`~guidewire.cli` (``python -m guidewire``).
+(kinematics), :mod:`~guidewire.energy` (the two schemes), :mod:`~guidewire.blocks` (one type per constraint kind),
+:mod:`~guidewire.formulation` (the NLP in either layout; :mod:`~guidewire.full_space` the full-space one),
+:mod:`~guidewire.initial_shape` (the start), :mod:`~guidewire.solve`, :mod:`~guidewire.sequence` and
+:mod:`~guidewire.result`, :mod:`~guidewire.reference` (the exact continuum elastica), :mod:`~guidewire.paper` (the
+paper's scenes), :mod:`~guidewire.plot` (figures, needs matplotlib), :mod:`~guidewire.cli` (``python -m guidewire``).
 """
 
+from .formulation import Formulation, formulate
 from .paper import paper_groups, paper_scenes
 from .result import Reaction, Solution
 from .scene import Base, Contact, Scene, Wall, Wire
 from .scene_file import load_scene, scene_to_toml
-from .solve import solve, solve_sequence
+from .sequence import SequenceResult, solve_sequence
+from .solve import solve
 
 __all__ = [
     "Base",
     "Contact",
+    "Formulation",
     "Reaction",
     "Scene",
+    "SequenceResult",
     "Solution",
     "Wall",
     "Wire",
+    "formulate",
     "load_scene",
     "paper_groups",
     "paper_scenes",

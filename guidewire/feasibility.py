@@ -1,4 +1,5 @@
-"""Why a scene cannot be met, found before any solve (:meth:`guidewire.Scene.infeasibility`).
+"""Why a scene cannot be met, found before any solve: :func:`infeasibility` and :func:`check_feasible` (which
+:func:`guidewire.formulation.formulate` calls).
 
 Each check is a *necessary* condition for a wire shape to exist, so a scene it rejects has no solution; a scene it
 passes may still be infeasible in a way only the solver can tell (then the solve ends with a non-success status).
@@ -36,6 +37,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .chain import place_bars
+from .fields import fmt as _fmt
 
 if TYPE_CHECKING:
     from .scene import Scene
@@ -48,10 +50,6 @@ FEASIBILITY_SLACK = 1e-9
 TAUT_ANGLE_TOLERANCE = 1e-6
 """A prescribed angle at a taut stretch of wire may differ from the chord direction by this much (rad), or by the turn
 the remaining slack allows one bar, whichever is larger."""
-
-
-def _fmt(value: float) -> str:
-    return f"{value:g}"
 
 
 def _point_label(name: str, p: tuple[float, float], s: float) -> str:
@@ -242,13 +240,27 @@ def discrete_reach(scene: Scene) -> str | None:
 
 
 CHECKS = (continuum_reach, walls, taut_angles, turning, discrete_reach)
-"""The checks :meth:`guidewire.Scene.infeasibility` runs, in this order (the first reason found is reported)."""
+"""The checks :func:`infeasibility` runs, in this order (the first reason found is reported)."""
 
 
 def infeasibility(scene: Scene) -> str | None:
-    """The first reason from :data:`CHECKS` why ``scene`` has no solution, or None."""
+    """Why no wire shape can meet ``scene``: the first reason from :data:`CHECKS`, or None when nothing obvious
+    forbids it.
+
+    Necessary conditions only (see the module docstring): prescribed positions within reach of the wire between
+    them, the base and contact points inside every wall, a taut stretch of wire straight along its chord, prescribed
+    angles within the turning ``b₂`` allows, and positions within reach of the scene's bars.
+    """
     for check in CHECKS:
         reason = check(scene)
         if reason is not None:
             return reason
     return None
+
+
+def check_feasible(scene: Scene) -> None:
+    """Raise ``ValueError`` naming the scene and the reason when :func:`infeasibility` finds one."""
+    reason = infeasibility(scene)
+    if reason is not None:
+        label = f"scene {scene.name!r}" if scene.name else "scene"
+        raise ValueError(f"{label} is infeasible: {reason}.")

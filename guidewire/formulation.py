@@ -1,241 +1,298 @@
-"""A scene as a nonlinear program for :func:`sqp.minimize`: energy, constraint rows, start, bookkeeping.
+"""A scene as a nonlinear program for :func:`sqp.minimize`: one :class:`Formulation` type, two layouts.
 
-Variables: the absolute bar angles ``φ`` (n,) of :mod:`guidewire.chain`. Objective: the bending energy of
-:mod:`guidewire.energy` (N·mm), quadratic in ``φ``; its exact constant Hessian is passed as ``hess0``.
+``formulate(scene, layout="reduced")`` — the paper's program: the bar angles ``φ`` (n,) are the variables
+(:class:`ReducedLayout`). ``layout="full"`` — bar angles and node positions, closed by sparse equalities
+(:mod:`guidewire.full_space`). Both state the same constraint blocks (:mod:`guidewire.blocks`: ``position``,
+``angle``, ``wall``, ``relative_angle``, each present only when the scene needs it) with the same rows and the same
+multiplier signs (:mod:`guidewire.blocks.base`), so a solution reads the same whatever the layout.
 
-Constraint blocks, in this order, each present only when the scene needs it ("leave out what a scene does not
-need"):
+Objective: the bending energy of :mod:`guidewire.energy` (N·mm), quadratic in ``φ``; its exact constant Hessian is
+passed as ``hess0`` and returned by :meth:`Formulation.hess` (sparse: :mod:`sqp` decides how to store it).
 
-``position``  (SLSQP ``eq`` dict; Eqs. 20–21)
-    ``p_k(φ) − P = 0``: two rows (x, y) per contact with a point, in contact order. Multiplier = the force (N) the
-    contact exerts on the wire.
-``angle``  (``LinearConstraint``, lb = ub; Eqs. 16–18; ``scheme = "paper"`` only)
-    ``φ_k = θ*``: one row per contact with an angle, on the bar ending at the contact node. Multiplier = the
-    moment (N·mm, counter-clockwise) the contact exerts on the wire. In the second-order scheme prescribed angles
-    are energy terms and this block does not exist.
-``wall``  (SLSQP ``ineq`` dict, one block per wall; Eqs. 23–24)
-    ``offset/|a| − â · p_k ≥ 0`` for nodes ``k = 1..n`` (the base node is fixed and checked once, before solving),
-    a distance in mm. Multiplier = the magnitude (N) of the wall's push on the node, along ``−â``.
-``relative_angle``  (``LinearConstraint``, two-sided; Eq. 19, only with ``wire.max_relative_angle``)
-    ``−b₂ ≤ Δθ_node ≤ b₂`` for every node with a joint: the paper's bounds on ``Δθ``, which in absolute angles are
-    differences of neighbours (still exact and linear).
-
-No variable bounds are used. Multiplier signs follow :func:`sqp.minimize`: ``∇E = Σ_i J_iᵀ λ_i``.
+In the reduced layout a node-row block is an SLSQP dict (``eq`` when every row is an equality, ``ineq`` ``d·p − lb ≥ 0``
+when only lower bounds are finite, else a ``NonlinearConstraint``) with analytic ``jac`` (dense: a node depends on
+every earlier angle) and ``hess(φ, v)`` (diagonal); an angle-row block is a ``LinearConstraint``. No variable bounds.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from functools import cached_property
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
-from scipy.optimize import LinearConstraint
+from scipy.optimize import LinearConstraint, NonlinearConstraint
 
-from .chain import BarChain, place_bars
-from .energy import EnergyTerms, bending_terms
-from .initial_shape import initial_angles as default_initial_angles
+from .blocks import BLOCK_TYPES, AngleRows, Block, NodeRows
+from .blocks.base import row_violation
+from .model import Model, build_model
 from .scene import SCHEMES, Scene
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int_]
 
-HESSIAN_REGULARISATION = 1e-6
-"""Relative shift ``δ·max diag`` added to ``hess0`` when no prescribed angle anchors the rotation of the wire (then
-the energy Hessian is singular along a rigid rotation about the base)."""
+LAYOUTS = ("reduced", "full")
+
+
+class Layout(Protocol):
+    """How a program states the variables, the energy and the two kinds of rows (see the module docstring)."""
+
+    name: str
+    model: Model
+
+    @property
+    def size(self) -> int: ...
+    @property
+    def hess0(self) -> Any: ...
+    def fun(self, x: FloatArray) -> float: ...
+    def jac(self, x: FloatArray) -> FloatArray: ...
+    def angles(self, x: FloatArray) -> FloatArray: ...
+    def nodes(self, x: FloatArray) -> FloatArray: ...
+    def own_constraints(self) -> list[Any]: ...
+    def node_rows(self, rows: NodeRows) -> Any: ...
+    def angle_rows(self, rows: AngleRows) -> Any: ...
+    def start(self, blocks: Sequence[Block]) -> FloatArray: ...
+    def block_multipliers(self, raw: Sequence[Any]) -> list[FloatArray]: ...
+    def raw_multipliers(self, blocks: Sequence[Block], per_block: Sequence[FloatArray]) -> list[FloatArray]: ...
+    def answer(self, blocks: Sequence[Block], x: FloatArray, per_block: Sequence[FloatArray]) -> FloatArray: ...
 
 
 @dataclass(frozen=True)
-class ConstraintBlock:
-    """Which entry of the ``constraints`` list holds what.
+class ReducedLayout:
+    """The paper's program: the bar angles are the variables; node rows are nonlinear and dense."""
 
-    Attributes
-    ----------
-    kind : {"position", "angle", "wall", "relative_angle"}
-    index : int
-        Position in ``Formulation.constraints`` (and in ``res.constraint_multipliers``).
-    members : tuple of int
-        Contact indices (``position``: one per contact, two rows each; ``angle``: one row each), the wall index
-        (``wall``), or the nodes (``relative_angle``).
-    nodes : ndarray of int
-        The node of every row.
-    """
-
-    kind: str
-    index: int
-    members: tuple[int, ...]
-    nodes: IntArray
+    model: Model
+    name: str = "reduced"
 
     @property
-    def rows(self) -> int:
-        """Number of constraint rows."""
-        return int(self.nodes.size)
+    def size(self) -> int:
+        return self.model.n
 
+    @property
+    def hess0(self) -> sp.csc_matrix:
+        return self.model.hess0
 
-DENSE_BARS = 300
-"""Up to this many bars Hessians are returned as dense arrays (cheaper than scipy.sparse's per-call overhead)."""
+    def fun(self, x: FloatArray) -> float:
+        return self.model.energy.value(x)
 
+    def jac(self, x: FloatArray) -> FloatArray:
+        return self.model.energy.gradient(x)
 
-def _diagonal(d: FloatArray) -> Any:
-    """A diagonal matrix: dense for small chains, sparse CSC for long ones."""
-    return np.diag(d) if d.size <= DENSE_BARS else sp.diags(d, format="csc")
+    def angles(self, x: FloatArray) -> FloatArray:
+        return np.asarray(x, dtype=float)
 
+    def nodes(self, x: FloatArray) -> FloatArray:
+        return self.model.chain.nodes(np.asarray(x, dtype=float))
 
-def _position_constraint(chain: BarChain, nodes: IntArray, targets: FloatArray) -> dict[str, Any]:
-    """``p_k(φ) − P`` for the contact nodes, rows (x₁, y₁, x₂, y₂, ...)."""
+    def own_constraints(self) -> list[Any]:
+        return []
 
-    def fun(phi: FloatArray) -> FloatArray:
-        return (chain.nodes(phi)[nodes] - targets).ravel()
+    def node_rows(self, rows: NodeRows) -> Any:
+        chain = self.model.chain
+        k, d = rows.nodes, rows.directions
+        mask = np.arange(chain.n_bars)[None, :] < k[:, None]  # bar j+1 ≤ node k
 
-    def jac(phi: FloatArray) -> FloatArray:
-        return chain.node_jacobian(phi, nodes).reshape(2 * nodes.size, chain.n_bars)
+        def value(phi: FloatArray) -> FloatArray:
+            return rows.values(chain.nodes(phi))
 
-    def hess(phi: FloatArray, v: FloatArray) -> Any:
-        return _diagonal(chain.node_hessian_diagonal(phi, nodes, np.reshape(v, (-1, 2))))
+        def jac(phi: FloatArray) -> FloatArray:
+            sin, cos = chain.lengths * np.sin(phi), chain.lengths * np.cos(phi)
+            return mask * (d[:, 0:1] * -sin[None, :] + d[:, 1:2] * cos[None, :])
 
-    return {"type": "eq", "fun": fun, "jac": jac, "hess": hess}
+        def hess(phi: FloatArray, v: FloatArray) -> sp.csc_matrix:
+            return sp.diags(chain.node_hessian_diagonal(phi, k, np.asarray(v, dtype=float)[:, None] * d),
+                            format="csc")
 
+        if np.array_equal(rows.lb, rows.ub):
+            return {"type": "eq", "fun": lambda phi: value(phi) - rows.lb, "jac": jac, "hess": hess}
+        if np.all(np.isposinf(rows.ub)):
+            return {"type": "ineq", "fun": lambda phi: value(phi) - rows.lb, "jac": jac, "hess": hess}
+        return NonlinearConstraint(value, rows.lb, rows.ub, jac=jac, hess=hess)
 
-def _wall_constraint(
-    chain: BarChain, normal: tuple[float, float], offset: float, nodes: IntArray
-) -> dict[str, Any]:
-    """``offset − n̂ · p_k ≥ 0`` for the nodes ``k`` in ``nodes`` (unit normal, mm)."""
-    nx, ny = normal
-    n_hat = np.array([nx, ny])
-    mask = np.arange(chain.n_bars)[None, :] < nodes[:, None]  # bar j+1 ≤ node k
+    def angle_rows(self, rows: AngleRows) -> LinearConstraint:
+        return LinearConstraint(rows.A, rows.lb, rows.ub)
 
-    def fun(phi: FloatArray) -> FloatArray:
-        return offset - chain.nodes(phi)[nodes] @ n_hat
+    def start(self, blocks: Sequence[Block]) -> FloatArray:
+        return self.model.x0
 
-    def jac(phi: FloatArray) -> FloatArray:
-        row = chain.lengths * (-nx * np.sin(phi) + ny * np.cos(phi))  # n̂ · ∂p/∂φ_j
-        return -(mask * row[None, :])
+    def block_multipliers(self, raw: Sequence[Any]) -> list[FloatArray]:
+        return [np.asarray(v, dtype=float).copy() for v in raw]
 
-    def hess(phi: FloatArray, v: FloatArray) -> Any:
-        return _diagonal(chain.node_hessian_diagonal(phi, nodes, -np.outer(v, n_hat)))
+    def raw_multipliers(self, blocks: Sequence[Block], per_block: Sequence[FloatArray]) -> list[FloatArray]:
+        return [np.asarray(v, dtype=float) for v in per_block]
 
-    return {"type": "ineq", "fun": fun, "jac": jac, "hess": hess}
+    def answer(self, blocks: Sequence[Block], x: FloatArray, per_block: Sequence[FloatArray]) -> FloatArray:
+        return np.asarray(x, dtype=float).copy()
 
 
 @dataclass(frozen=True)
 class Formulation:
-    """The nonlinear program of one scene (see the module docstring for the blocks).
+    """The nonlinear program of one scene in one layout.
 
     Attributes
     ----------
-    scene : Scene
-        The scene, with ``bars`` and ``scheme`` as solved.
-    scheme : str
-    chain : BarChain
-    contact_nodes : ndarray of int, shape (len(scene.contacts),)
-    energy : EnergyTerms
-    blocks : tuple of ConstraintBlock
+    model : Model
+        Chain, energy, contact nodes and start angles (layout-independent).
+    layout : ReducedLayout or FullLayout
+    blocks : tuple of Block
+        The constraint blocks; ``block.index`` is the position of its constraint in :attr:`constraints`.
     constraints : tuple
-        Arguments for ``sqp.minimize(constraints=...)``, in the order of ``blocks``.
-    hess0 : ndarray, shape (n, n)
-        The exact energy Hessian (plus a tiny shift when it is singular).
-    x0 : ndarray, shape (n,)
-        Starting bar angles.
+        Arguments for ``sqp.minimize(constraints=...)``: the layout's own rows (the full space's closure) first,
+        then one per block.
+    x0 : ndarray, shape (size,)
+        The start, in the layout's variables.
     """
 
-    scene: Scene
-    scheme: str
-    chain: BarChain
-    contact_nodes: IntArray
-    energy: EnergyTerms
-    blocks: tuple[ConstraintBlock, ...]
+    model: Model
+    layout: Any
+    blocks: tuple[Block, ...]
     constraints: tuple[Any, ...]
-    hess0: FloatArray
     x0: FloatArray
+
+    # -- what it is ----------------------------------------------------------------------------------------------
+    @property
+    def scene(self) -> Scene:
+        return self.model.scene
+
+    @property
+    def chain(self) -> Any:
+        return self.model.chain
+
+    @property
+    def energy(self) -> Any:
+        return self.model.energy
+
+    @property
+    def contact_nodes(self) -> IntArray:
+        return self.model.contact_nodes
+
+    @property
+    def scheme(self) -> str:
+        return self.model.scene.wire.scheme
 
     @property
     def n(self) -> int:
-        """Number of variables (bars)."""
-        return self.chain.n_bars
+        """Number of bars."""
+        return self.model.n
 
-    def fun(self, phi: FloatArray) -> float:
-        """Bending energy in N·mm."""
-        return self.energy.value(phi)
+    @property
+    def size(self) -> int:
+        """Number of variables (``n`` reduced, ``3n`` full)."""
+        return int(self.layout.size)
 
-    def jac(self, phi: FloatArray) -> FloatArray:
-        """Gradient of the energy, shape (n,)."""
-        return self.energy.gradient(phi)
+    @property
+    def hess0(self) -> Any:
+        """The exact (constant) energy Hessian in the layout's variables, sparse."""
+        return self.layout.hess0
 
-    def hess(self, phi: FloatArray) -> Any:
-        """Exact Hessian of the energy, shape (n, n): constant and tridiagonal (``hess0``; dense up to
-        :data:`DENSE_BARS` bars, sparse CSC above)."""
-        return self._dense_hess0 if self.n <= DENSE_BARS else self.hess0
-
-    @cached_property
-    def _dense_hess0(self) -> FloatArray:
-        return self.hess0.toarray()
-
-    def block(self, kind: str) -> tuple[ConstraintBlock, ...]:
+    def block(self, kind: str) -> tuple[Block, ...]:
         """The blocks of one kind (possibly none)."""
         return tuple(b for b in self.blocks if b.kind == kind)
 
-    def arguments(self) -> dict[str, Any]:
-        """Keyword arguments for ``sqp.minimize`` (and, without ``hess0``, ``scipy.optimize.minimize``)."""
-        return {
-            "fun": self.fun, "x0": self.x0, "jac": self.jac, "bounds": None,
-            "constraints": list(self.constraints), "hess0": self.hess0,
-        }
+    # -- the program ---------------------------------------------------------------------------------------------
+    def fun(self, x: FloatArray) -> float:
+        """Bending energy in N·mm."""
+        return self.layout.fun(x)
 
-    def violations(self, phi: FloatArray) -> FloatArray:
-        """Constraint violation of every row at ``phi`` (≥ 0), concatenated in block order."""
+    def jac(self, x: FloatArray) -> FloatArray:
+        """Gradient of the energy, shape (size,)."""
+        return self.layout.jac(x)
+
+    def hess(self, x: FloatArray) -> Any:
+        """Exact Hessian of the energy: :attr:`hess0` (constant)."""
+        return self.layout.hess0
+
+    def arguments(self) -> dict[str, Any]:
+        """Keyword arguments for ``sqp.minimize`` (and, without ``hess0``, ``scipy.optimize.minimize``); add
+        ``hess=self.hess`` for Newton–SQP."""
+        return {"fun": self.fun, "x0": self.x0, "jac": self.jac, "bounds": None,
+                "constraints": list(self.constraints), "hess0": self.hess0}
+
+    # -- reading answers ----------------------------------------------------------------------------------------
+    def angles(self, x: FloatArray) -> FloatArray:
+        """Bar angles ``φ`` at ``x``, shape (n,)."""
+        return self.layout.angles(x)
+
+    def nodes(self, x: FloatArray) -> FloatArray:
+        """Node positions at ``x`` (the variables' own in the full space), shape (n + 1, 2), base first."""
+        return self.layout.nodes(x)
+
+    def violations(self, x: FloatArray) -> FloatArray:
+        """Violation (≥ 0) of every row of :attr:`constraints` at ``x``, concatenated in order."""
         parts = [np.zeros(0)]
         for con in self.constraints:
             if isinstance(con, LinearConstraint):
-                ax = con.A @ phi
-                parts.append(np.maximum(np.maximum(con.lb - ax, ax - con.ub), 0.0))
+                parts.append(row_violation(con.A @ x, con.lb, con.ub))
+            elif isinstance(con, NonlinearConstraint):
+                parts.append(row_violation(np.asarray(con.fun(x), dtype=float), con.lb, con.ub))
             else:
-                c = np.asarray(con["fun"](phi), dtype=float)
+                c = np.asarray(con["fun"](x), dtype=float)
                 parts.append(np.abs(c) if con["type"] == "eq" else np.maximum(-c, 0.0))
         return np.concatenate(parts)
 
+    def max_violation(self, phi: FloatArray) -> float:
+        """Largest violation (mm or rad) of any block at the bar angles ``phi`` — walls at every node, not only
+        their working set."""
+        points = self.model.chain.nodes(phi)
+        return max((float(np.max(b.violation(self.model, phi, points), initial=0.0)) for b in self.blocks),
+                   default=0.0)
 
-WALL_WORKING_DISTANCE = 0.25
-"""Nodes of the start closer to a wall than this fraction of the wire length get a wall row in the working set."""
+    def multipliers(self, res: Any) -> list[FloatArray]:
+        """One array per block (in :attr:`blocks` order) from an ``sqp`` result, in the sign convention of
+        :mod:`guidewire.blocks.base` (the same in both layouts)."""
+        return self.layout.block_multipliers(res.constraint_multipliers)
+
+    def answer(self, x: FloatArray, per_block: Sequence[FloatArray]) -> FloatArray:
+        """The bar angles of the answer ``x`` (in the full space moved onto the active rows in the chain's own
+        kinematics, see :meth:`guidewire.full_space.FullLayout.answer`)."""
+        return self.layout.answer(self.blocks, x, per_block)
+
+    def multipliers0(self, blocks: Sequence[Block], per_block: Sequence[Any]) -> list[FloatArray] | None:
+        """Starting multipliers for ``sqp.minimize(multipliers0=...)`` from those of another formulation of a
+        neighbouring scene (its ``blocks`` and :meth:`multipliers`): matched by block key and row key, rows without
+        a match start at 0. None when no block matches."""
+        known = {b.key: (b, np.asarray(v, dtype=float)) for b, v in zip(blocks, per_block, strict=True)}
+        out, matched = [], False
+        for block in self.blocks:
+            lam = np.zeros(block.size)
+            if block.key in known:
+                other, values = known[block.key]
+                if values.size == other.size:
+                    matched = True
+                    where = {int(r): i for i, r in enumerate(other.row_keys)}
+                    pick = np.array([where.get(int(r), -1) for r in block.row_keys], dtype=int)
+                    lam = np.where(pick >= 0, values[np.maximum(pick, 0)] if values.size else 0.0, 0.0)
+            out.append(lam)
+        return self.layout.raw_multipliers(self.blocks, out) if matched else None
 
 
-def near_wall_nodes(nodes: FloatArray, normal: tuple[float, float], offset: float, length: float) -> IntArray:
-    """Nodes 1..n within ``WALL_WORKING_DISTANCE · L`` of the wall ``n̂·p ≤ offset`` (at least the closest one)."""
-    gap = offset - nodes[1:] @ np.asarray(normal)
-    near = np.flatnonzero(gap <= WALL_WORKING_DISTANCE * length) + 1
-    return near if near.size else np.array([int(np.argmin(gap)) + 1])
-
-
-def wall_gaps(chain: BarChain, phi: FloatArray, walls: Any) -> FloatArray:
-    """``offset − n̂·p_k`` for every wall and node 1..n, shape (walls, n) (negative: violated)."""
-    pts = chain.nodes(phi)[1:]
-    return np.array([w.unit()[1] - pts @ np.asarray(w.unit()[0]) for w in walls]).reshape(len(walls), -1)
-
-
-def _check_initial(x0: Any, n: int, name: str, shape: tuple[int, ...]) -> FloatArray:
-    arr = np.asarray(x0, dtype=float)
-    if arr.shape != shape:
-        raise ValueError(f"{name} has shape {arr.shape}; expected {shape} for {n} bars.")
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} contains NaN or inf; pass finite values.")
-    return arr
+def _working_set(wall_nodes: Any) -> Any:
+    if wall_nodes is None or isinstance(wall_nodes, str | Mapping):
+        return wall_nodes
+    return {("wall", (j,)): np.asarray(nodes, dtype=int) for j, nodes in enumerate(wall_nodes)}
 
 
 def formulate(
     scene: Scene,
     *,
+    layout: str = "reduced",
     scheme: str | None = None,
     bars: int | None = None,
     initial_angles: Any = None,
     initial_nodes: Any = None,
     wall_nodes: Any = None,
+    check: bool = True,
 ) -> Formulation:
     """Turn ``scene`` into the arguments of :func:`sqp.minimize`.
 
     Parameters
     ----------
     scene : Scene
+    layout : {"reduced", "full"}
+        The variables: bar angles only (the paper's program), or bar angles and node positions
+        (:mod:`guidewire.full_space`).
     scheme : {"second_order", "paper"}, optional
         Overrides ``scene.wire.scheme``.
     bars : int, optional
@@ -244,11 +301,14 @@ def formulate(
         Starting bar angles (rad).
     initial_nodes : array_like, shape (n + 1, 2), optional
         Starting node positions (base first); only their directions are used.
-    wall_nodes : "near" or sequence of int arrays, optional
-        For every wall, the nodes that get a row (default: nodes 1..n). ``"near"``: the nodes of the start within
-        :data:`WALL_WORKING_DISTANCE` ``× L`` of the wall (the paper's remark that only a few points of a line contact
-        need constraining). :func:`guidewire.solve` uses ``"near"`` and adds any node found violating a wall, then
-        solves again from the answer, so no node of the returned shape violates a wall.
+    wall_nodes : None, "near", sequence of int arrays, or mapping, optional
+        The nodes that get a wall row (the working set). None: nodes 1..n. ``"near"``: the start's nodes within
+        :data:`guidewire.blocks.wall.WORKING_DISTANCE` ``× L`` of each wall (the paper's remark that only a few
+        points of a line contact need constraining). A sequence: one array per wall. A mapping: from block key
+        (``("wall", (j,))``) to nodes. :func:`guidewire.solve` uses ``"near"`` in the reduced layout and grows the
+        set with every node found violating a wall.
+    check : bool
+        Check the scene's feasibility first (:func:`guidewire.feasibility.check_feasible`).
 
     Returns
     -------
@@ -257,8 +317,10 @@ def formulate(
     Raises
     ------
     ValueError
-        For an unknown scheme, a bad start, or an infeasible scene (:meth:`Scene.check_feasible`).
+        For an unknown layout or scheme, a bad start, or an infeasible scene.
     """
+    if layout not in LAYOUTS:
+        raise ValueError(f"layout is {layout!r}; expected one of {', '.join(map(repr, LAYOUTS))}.")
     if scheme is not None:
         if scheme not in SCHEMES:
             raise ValueError(f"scheme is {scheme!r}; expected one of {', '.join(map(repr, SCHEMES))}.")
@@ -267,65 +329,29 @@ def formulate(
         scene = scene.with_bars(bars)
     if initial_angles is not None and initial_nodes is not None:
         raise ValueError("pass initial_angles or initial_nodes, not both.")
-    scene.check_feasible()
-    wire, contacts = scene.wire, scene.contacts
-    lengths, contact_nodes = place_bars(wire.length, wire.bars, [c.s for c in contacts])
-    chain = BarChain(np.asarray(scene.base.point, dtype=float), lengths)
-    n = chain.n_bars
+    if check:
+        from .feasibility import check_feasible
 
-    angle_ids = [i for i, c in enumerate(contacts) if c.angle is not None]
-    angle_nodes = contact_nodes[angle_ids]
-    angle_values = np.array([contacts[i].angle for i in angle_ids], dtype=float)
-    energy = bending_terms(lengths, wire.bending_stiffness, wire.scheme, scene.base.angle, angle_nodes, angle_values)
+        check_feasible(scene)
+    model = build_model(scene, initial_angles, initial_nodes)
+    working_set = _working_set(wall_nodes)
+    blocks = [block for kind in BLOCK_TYPES for block in kind.build(model, working_set)]
+    return assemble(model, layout, blocks)
 
-    if initial_angles is not None:
-        x0 = _check_initial(initial_angles, n, "initial_angles", (n,))
-    elif initial_nodes is not None:
-        x0 = chain.angles_from_nodes(_check_initial(initial_nodes, n, "initial_nodes", (n + 1, 2)))
+
+def assemble(model: Model, layout: str, blocks: Sequence[Block]) -> Formulation:
+    """The :class:`Formulation` of ``blocks`` on ``model`` in ``layout`` (e.g. after a block's working set grew)."""
+    if layout == "full":
+        from .full_space import FullLayout
+
+        lay: Any = FullLayout.build(model)
     else:
-        x0 = default_initial_angles(scene, chain, contact_nodes)
-
-    blocks: list[ConstraintBlock] = []
-    constraints: list[Any] = []
-
-    def add(kind: str, members: list[int] | tuple[int, ...], nodes: IntArray, con: Any) -> None:
-        blocks.append(ConstraintBlock(kind, len(constraints), tuple(int(m) for m in members), nodes))
-        constraints.append(con)
-
-    pos_ids = [i for i, c in enumerate(contacts) if c.point is not None]
-    if pos_ids:
-        targets = np.array([contacts[i].point for i in pos_ids], dtype=float)
-        nodes = contact_nodes[pos_ids]
-        add("position", pos_ids, np.repeat(nodes, 2), _position_constraint(chain, nodes, targets))
-    if wire.scheme == "paper" and angle_ids:
-        rows = np.zeros((len(angle_ids), n))
-        rows[np.arange(len(angle_ids)), angle_nodes - 1] = 1.0
-        add("angle", angle_ids, angle_nodes, LinearConstraint(rows, angle_values, angle_values))
-    start_nodes = chain.nodes(x0)
-    for j, wall in enumerate(scene.walls):
-        normal, offset = wall.unit()
-        if wall_nodes is None:
-            nodes = np.arange(1, n + 1)
-        elif isinstance(wall_nodes, str) and wall_nodes == "near":
-            nodes = near_wall_nodes(start_nodes, normal, offset, wire.length)
-        else:
-            nodes = np.unique(np.asarray(wall_nodes[j], dtype=int))
-        add("wall", (j,), nodes, _wall_constraint(chain, normal, offset, nodes))
-    if wire.max_relative_angle is not None:
-        node_rows, node_offsets = energy.node_rows(n + 1)
-        joint_nodes = np.unique(energy.node)
-        b2 = wire.max_relative_angle
-        lin = LinearConstraint(node_rows[joint_nodes], node_offsets[joint_nodes] - b2, node_offsets[joint_nodes] + b2)
-        add("relative_angle", tuple(joint_nodes), joint_nodes, lin)
-
-    hess0 = energy.hessian()
-    if not np.any(np.abs(energy.row_sum) > 0.0):  # only differences: rigid rotation is a null direction
-        hess0 = hess0 + HESSIAN_REGULARISATION * max(float(hess0.diagonal().max(initial=0.0)), 1.0) * sp.identity(
-            n, format="csc")
-
-    return Formulation(
-        scene=scene, scheme=wire.scheme, chain=chain, contact_nodes=contact_nodes, energy=energy,
-        blocks=tuple(blocks), constraints=tuple(constraints), hess0=hess0, x0=x0,
-    )
-
-
+        lay = ReducedLayout(model)
+    constraints = lay.own_constraints()
+    placed = []
+    for block in blocks:
+        rows = block.rows(model)
+        placed.append(block.with_index(len(constraints)))
+        constraints.append(lay.node_rows(rows) if isinstance(rows, NodeRows) else lay.angle_rows(rows))
+    return Formulation(model=model, layout=lay, blocks=tuple(placed), constraints=tuple(constraints),
+                       x0=lay.start(placed))

@@ -1,84 +1,66 @@
-"""A scene as a *full-space* nonlinear program: bar angles and node positions are both variables.
+"""The *full-space* layout: bar angles and node positions are both variables.
 
-Why. In the reduced formulation (:mod:`guidewire.formulation`) the bar angles ``φ`` are the only variables, so a node
+Why. In the reduced layout (:mod:`guidewire.formulation`) the bar angles ``φ`` are the only variables, so a node
 position depends on every earlier angle: each position or wall row is a dense row of the Jacobian, and the
 augmented-Lagrangian convexification of the (indefinite, for a wire under compression) Lagrangian Hessian is dense.
 Here the nodes are variables too and the chain is closed by nonlinear equalities, one pair per bar, so every row has
 at most three nonzeros, the Lagrangian Hessian is diagonal plus the tridiagonal energy Hessian, and with the
 interleaved ordering below ``W + ρ CᵀC`` is banded: Newton–SQP (3-6 iterations) with O(n) sparse QPs.
 
-Variables (3n), interleaved per bar: ``z = [φ_1, x_1, y_1, φ_2, x_2, y_2, …, φ_n, x_n, y_n]``; node 0 (the base point)
-is a constant.
+Variables (3n), interleaved per bar: ``z = [φ_1, u_1, v_1, φ_2, u_2, v_2, …, φ_n, u_n, v_n]`` with the node
+``p_k = s (u_k, v_k)`` in units of the length scale ``s`` (:func:`length_scale`); node 0 (the base point) is a
+constant.
 
-Constraint blocks, in this order (the ones after ``closure`` exactly as the reduced formulation has them, with the
-same multipliers except the sign of the wall rows, see :meth:`FullSpaceFormulation.reduced_multipliers`):
+What this module adds to the blocks of :mod:`guidewire.blocks` (which it states like the reduced layout, with the
+same rows and multipliers):
 
-``closure``  (SLSQP ``eq`` dict, sparse CSR ``jac``, diagonal ``hess``)
+``closure``  (the first constraint: an SLSQP ``eq`` dict, sparse CSR ``jac``, diagonal ``hess``)
     ``x_k − x_{k−1} − l_k cos φ_k = 0``, ``y_k − y_{k−1} − l_k sin φ_k = 0``, rows ``x_1, y_1, x_2, y_2, …``.
     Multiplier: minus the force bar ``k`` transmits (the sum of every support force beyond it).
-``position``  (``LinearConstraint``) ``x_k = P_x``, ``y_k = P_y`` per contact with a point. Multiplier = the force.
-``angle``  (``LinearConstraint``; scheme "paper" only) ``φ_k = θ*``. Multiplier = the moment.
-``wall``  (``LinearConstraint``, one block per wall) ``n̂ · p_k ≤ offset`` for every node 1..n. Linear, so every
-    iterate satisfies it (up to the QP tolerance) and no working set is needed. Multiplier ``≤ 0`` (upper side).
-``relative_angle``  (``LinearConstraint``) the reduced ``−b₂ ≤ Δθ ≤ b₂`` rows at the ``φ`` columns.
+node rows
+    linear here: ``lb ≤ s d · (u_k, v_k) ≤ ub`` (``LinearConstraint``, two nonzeros a row), so every iterate satisfies
+    them up to the QP tolerance and no working set is needed.
+angle rows
+    the same ``LinearConstraint`` at the ``φ`` columns.
 
 Objective: the same :class:`~guidewire.energy.EnergyTerms` on ``φ = z[0::3]`` (gradient and constant Hessian embedded at
-the ``φ`` columns). The start is the reduced formulation's start ``φ0`` with ``P0 = chain.nodes(φ0)[1:]``, the
-contact nodes moved onto their targets and every node into the walls, so the start satisfies all linear rows and
-the engine never projects it (that projection is a dense QP).
-
-Use::
-
-    full = formulate_full(scene, bars=1600)
-    res = sqp.minimize(**full.arguments(), hess=full.hess, qp_solver=full.qp_solver)
-    sol = build_solution(full.reduced, full.as_reduced_result(res), time)
+the ``φ`` columns). The start is the model's ``φ0`` moved onto the angle rows, with ``P0 = chain.nodes(φ0)[1:]`` moved
+onto the node rows (a wall's rows strictly inside), so the start satisfies all linear rows and the engine never
+projects it (that projection is a dense QP).
 """
 
 from __future__ import annotations
 
-import time
+from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import cached_property
 from typing import Any
 
 import numpy as np
-import qpsolvers
 import scipy.sparse as sp
 from numpy.typing import NDArray
-from scipy.optimize import LinearConstraint, OptimizeResult
+from scipy.optimize import LinearConstraint
 
 import sqp
-from sqp.hessian import DENSE_LIMIT
 
-from .formulation import ConstraintBlock, Formulation, formulate
-from .result import Solution, build_solution
+from .blocks import AngleRows, Block, NodeRows
+from .model import Model
 from .scene import Scene
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int_]
 
 WALL_START_MARGIN = 1e-9
-"""Start nodes are moved at least this fraction of the wire length inside every wall (the engine projects a start
-that violates a linear row by more than 1e-12, by a QP with a dense identity Hessian)."""
+"""Start nodes are moved at least this fraction of the wire length inside every inequality node row (the engine
+projects a start that violates a linear row by more than 1e-12, by a QP with a dense identity Hessian)."""
 
 START_MARGIN = 1e-9
-"""A start violating the b₂ rows is projected onto them shrunk by this many radians."""
-
-SPARSE_QP_SOLVER = "piqp"
-"""The qpsolvers backend for the sparse subproblems (more than :data:`DENSE_BARS` bars). Measured per subproblem on
-Fig. 6a, n = 1600 (4800 variables, 3200 equalities, 1600 wall rows): PIQP's sparse backend 13-16 ms, Clarabel 48-54 ms,
-OSQP fails (not converged in 4000 iterations, ~350 ms), ProxQP's sparse backend takes minutes. Whole solves at
-n = 1600: Fig. 6a 0.70 s with PIQP against 1.08 s with Clarabel (both before the polish was made conditional),
-Table 1 (π/4) 53 ms against 73 ms."""
+"""A start violating an inequality angle row (the b₂ bound) is projected onto the rows shrunk by this many radians."""
 
 POLISH_TOLERANCE = 1e-9
-""":meth:`FullSpaceFormulation.polished_angles` leaves ``φ`` alone when no reduced row is violated by more than this
-times the length scale (1e-7 mm for a 100 mm wire; the answer is checked against ``tol · L`` = 1e-6 mm): the dense
-Gauss–Newton correction costs O(m n²) (0.6 s for Fig. 6a at n = 1600, whose line contact makes m large) and is needed
-only when the closure residuals accumulate along a long chain beyond that."""
-
-DENSE_BARS = DENSE_LIMIT // 3
-"""Up to this many bars (``3n ≤`` :data:`sqp.hessian.DENSE_LIMIT` variables) the engine works densely: DAQP."""
+""":meth:`FullLayout.answer` leaves ``φ`` alone when no row is violated by more than this times the length scale
+(1e-7 mm for a 100 mm wire; the answer is checked against ``tol · L`` = 1e-6 mm): the dense Gauss–Newton correction
+costs O(m n²) (0.6 s for Fig. 6a at n = 1600, whose line contact makes m large) and is needed only when the closure
+residuals accumulate along a long chain beyond that."""
 
 
 def _phi(i: Any) -> Any:
@@ -158,61 +140,39 @@ class _Closure:
         return {"type": "eq", "fun": self.fun, "jac": self.jac, "hess": self.hess}
 
 
-def _embed_columns(A: Any, n_bars: int) -> sp.csr_matrix:
-    """Rows over ``φ`` (n columns) as rows over ``z`` (3n columns)."""
-    A = sp.coo_matrix(A)
-    return sp.csr_matrix((A.data, (A.row, _phi(A.col))), shape=(A.shape[0], 3 * n_bars))
+def length_scale(scene: Scene) -> float:
+    """``s = max(1 mm, |base| + L)``: every node lies within ``s`` of the origin, so the scaled node variables are
+    at most 1 in magnitude, like the angles."""
+    return max(1.0, float(np.hypot(*scene.base.point)) + scene.wire.length)
+
+
+def _fixed_columns(A: sp.csr_matrix, lb: FloatArray, ub: FloatArray) -> tuple[IntArray, FloatArray]:
+    """Columns set by equality rows with a single entry (a prescribed bar angle), and their values."""
+    A = sp.csr_matrix(A)
+    single = (np.diff(A.indptr) == 1) & (lb == ub)
+    rows = np.flatnonzero(single)
+    return A.indices[A.indptr[rows]], lb[rows] / A.data[A.indptr[rows]]
 
 
 @dataclass(frozen=True)
-class FullSpaceFormulation:
-    """The full-space program of one scene (see the module docstring).
+class FullLayout:
+    """Bar angles and (scaled) node positions as variables; see the module docstring."""
 
-    Attributes
-    ----------
-    reduced : Formulation
-        The reduced formulation of the same scene (every wall on every node): its chain, energy, contact nodes, start
-        and blocks. :func:`guidewire.result.build_solution` takes it with :meth:`as_reduced_result`.
-    blocks : tuple of ConstraintBlock
-        ``closure`` first (members: the bars, nodes: the node of every row), then the reduced blocks' kinds,
-        members and nodes in the reduced order; ``index`` into :attr:`constraints`.
-    constraints : tuple
-        Arguments for ``sqp.minimize(constraints=...)``.
-    hess0 : scipy.sparse.csc_matrix, shape (3n, 3n)
-        The reduced ``hess0`` (energy Hessian) at the ``φ`` rows and columns.
-    x0 : ndarray, shape (3n,)
-        The start; it satisfies every linear row.
-    length_scale : float
-        ``s`` (mm): the node variables are ``x_k / s``, ``y_k / s`` (see the module docstring).
-    """
+    model: Model
+    scale: float
+    closure: _Closure
+    name: str = "full"
 
-    reduced: Formulation
-    blocks: tuple[ConstraintBlock, ...]
-    constraints: tuple[Any, ...]
-    hess0: sp.csc_matrix
-    x0: FloatArray
-    length_scale: float
-
-    @property
-    def n(self) -> int:
-        """Number of bars."""
-        return self.reduced.n
-
-    @property
-    def size(self) -> int:
-        """Number of variables, ``3n``."""
-        return 3 * self.n
-
-    @property
-    def scene(self) -> Scene:
-        return self.reduced.scene
-
-    @property
-    def qp_solver(self) -> str:
-        """The backend to use: DAQP while the engine works densely, else :data:`SPARSE_QP_SOLVER`."""
-        return "daqp" if self.n <= DENSE_BARS else SPARSE_QP_SOLVER
+    @classmethod
+    def build(cls, model: Model) -> FullLayout:
+        scale = length_scale(model.scene)
+        return cls(model, scale, _Closure.build(model.chain.base_point, model.chain.lengths, scale))
 
     # -- variables -----------------------------------------------------------------------------------------------
+    @property
+    def size(self) -> int:
+        return 3 * self.model.n
+
     def angles(self, z: FloatArray) -> FloatArray:
         """Bar angles ``φ``, shape (n,)."""
         return np.asarray(z, dtype=float)[0::3].copy()
@@ -220,327 +180,168 @@ class FullSpaceFormulation:
     def nodes(self, z: FloatArray) -> FloatArray:
         """Node positions as variables, shape (n + 1, 2), base first."""
         z = np.asarray(z, dtype=float)
-        return np.vstack((self.reduced.chain.base_point, self.length_scale * np.column_stack((z[1::3], z[2::3]))))
+        return np.vstack((self.model.chain.base_point, self.scale * np.column_stack((z[1::3], z[2::3]))))
 
     def pack(self, phi: FloatArray, nodes: FloatArray | None = None) -> FloatArray:
         """``z`` from bar angles and node positions (shape (n + 1, 2), base first; default ``chain.nodes(φ)``)."""
-        return _pack(self.reduced, self.length_scale, phi, nodes)
+        phi = np.asarray(phi, dtype=float)
+        p = self.model.chain.nodes(phi) if nodes is None else np.asarray(nodes, dtype=float)
+        z = np.empty(3 * phi.size)
+        z[0::3], z[1::3], z[2::3] = phi, p[1:, 0] / self.scale, p[1:, 1] / self.scale
+        return z
 
     # -- objective -----------------------------------------------------------------------------------------------
     def fun(self, z: FloatArray) -> float:
-        """Bending energy in N·mm."""
-        return self.reduced.energy.value(z[0::3])
+        return self.model.energy.value(z[0::3])
 
     def jac(self, z: FloatArray) -> FloatArray:
-        """Gradient, shape (3n,): the energy gradient at the ``φ`` entries."""
         g = np.zeros(self.size)
-        g[0::3] = self.reduced.energy.gradient(z[0::3])
+        g[0::3] = self.model.energy.gradient(z[0::3])
         return g
 
-    def hess(self, z: FloatArray) -> Any:
-        """The constant energy Hessian :attr:`hess0` (dense while the engine works densely)."""
-        return self._dense_hess0 if self.size <= DENSE_LIMIT else self.hess0
+    @property
+    def hess0(self) -> sp.csc_matrix:
+        H = sp.coo_matrix(self.model.hess0)
+        m = self.size
+        return sp.csc_matrix((H.data, (_phi(H.row), _phi(H.col))), shape=(m, m))
 
-    @cached_property
-    def _dense_hess0(self) -> FloatArray:
-        return self.hess0.toarray()
+    # -- rows ----------------------------------------------------------------------------------------------------
+    def own_constraints(self) -> list[Any]:
+        return [self.closure.constraint()]
 
-    def block(self, kind: str) -> tuple[ConstraintBlock, ...]:
-        """The blocks of one kind (possibly none)."""
-        return tuple(b for b in self.blocks if b.kind == kind)
+    def node_rows(self, rows: NodeRows) -> LinearConstraint:
+        k, m = rows.nodes, rows.nodes.size
+        cols = np.column_stack((_x(k), _y(k))).ravel()
+        A = sp.csr_matrix((self.scale * rows.directions.ravel(), (np.repeat(np.arange(m), 2), cols)),
+                          shape=(m, self.size))
+        A.eliminate_zeros()
+        return LinearConstraint(A, rows.lb, rows.ub)
 
-    def arguments(self) -> dict[str, Any]:
-        """Keyword arguments for ``sqp.minimize`` (add ``hess=self.hess`` for Newton–SQP)."""
-        return {"fun": self.fun, "x0": self.x0, "jac": self.jac, "bounds": None,
-                "constraints": list(self.constraints), "hess0": self.hess0}
+    def angle_rows(self, rows: AngleRows) -> LinearConstraint:
+        A = sp.coo_matrix(rows.A)
+        return LinearConstraint(sp.csr_matrix((A.data, (A.row, _phi(A.col))), shape=(A.shape[0], self.size)),
+                                rows.lb, rows.ub)
 
-    def violations(self, z: FloatArray) -> FloatArray:
-        """Violation of every row at ``z`` (≥ 0), concatenated in block order."""
-        parts = [np.zeros(0)]
-        for con in self.constraints:
-            if isinstance(con, LinearConstraint):
-                az = con.A @ z
-                parts.append(np.maximum(np.maximum(con.lb - az, az - con.ub), 0.0))
-            else:
-                parts.append(np.abs(con["fun"](z)))
-        return np.concatenate(parts)
+    # -- start ---------------------------------------------------------------------------------------------------
+    def start(self, blocks: Sequence[Block]) -> FloatArray:
+        """The model's start moved onto every angle row and node row (inequalities strictly inside)."""
+        model = self.model
+        specs = [b.rows(model) for b in blocks]
+        phi = _onto_angle_rows(np.asarray(model.x0, dtype=float), [r for r in specs if isinstance(r, AngleRows)])
+        p = model.chain.nodes(phi)
+        node_specs = [r for r in specs if isinstance(r, NodeRows)]
+        margin = WALL_START_MARGIN * model.scene.wire.length
+        for _ in range(10):  # alternating projections (one round when the rows do not interact)
+            moved = False
+            for r in node_specs:
+                equal = r.lb == r.ub
+                lo = np.where(equal, r.lb, r.lb + margin)
+                hi = np.where(equal, r.ub, r.ub - margin)
+                value = r.values(p)
+                delta = np.clip(value, lo, hi) - value
+                if np.any(delta != 0.0):
+                    np.add.at(p, r.nodes, (delta / np.einsum("ij,ij->i", r.directions, r.directions))[:, None]
+                              * r.directions)
+                    moved = moved or bool(np.any((value < lo) & ~equal | (value > hi) & ~equal))
+            if not moved:
+                break
+        return self.pack(phi, p)
 
     # -- multipliers ---------------------------------------------------------------------------------------------
-    def _partner(self, reduced_block: ConstraintBlock) -> ConstraintBlock:
-        return self.blocks[reduced_block.index + 1]  # closure first, then the reduced blocks in order
+    def block_multipliers(self, raw: Sequence[Any]) -> list[FloatArray]:
+        """Drop the closure's multipliers: the blocks' rows and signs are those of the reduced layout."""
+        return [np.asarray(v, dtype=float).copy() for v in raw[1:]]
 
-    def reduced_multipliers(self, res: Any) -> list[FloatArray]:
-        """The multipliers of ``res`` (a full-space ``sqp`` result) for the reduced formulation's blocks.
+    def raw_multipliers(self, blocks: Sequence[Block], per_block: Sequence[FloatArray]) -> list[FloatArray]:
+        """The inverse of :meth:`block_multipliers`: the closure multipliers follow from stationarity in the node
+        positions, ``μ_k = μ_{k+1} − f_k`` (a suffix sum of the node forces ``f = λ d`` beyond bar ``k``)."""
+        force = np.zeros((self.model.n + 1, 2))
+        for block, lam in zip(blocks, per_block, strict=True):
+            rows = block.rows(self.model)
+            if isinstance(rows, NodeRows):
+                np.add.at(force, rows.nodes, np.asarray(lam, dtype=float)[:, None] * rows.directions)
+        closure = -np.cumsum(force[::-1], axis=0)[::-1][1:].ravel()
+        return [closure, *(np.asarray(v, dtype=float) for v in per_block)]
 
-        Position (forces), angle (moments) and relative-angle rows carry over unchanged (eliminating the closure
-        rows does not change the other rows' multipliers); wall rows change sign, to the reduced ``ineq``
-        convention ``λ ≥ 0`` for ``offset − n̂·p ≥ 0``.
-        """
-        lam = res.constraint_multipliers
-        out = []
-        for rb in self.reduced.blocks:
-            v = np.asarray(lam[self._partner(rb).index], dtype=float)
-            out.append(-v if rb.kind == "wall" else v.copy())
-        return out
-
-    def full_multipliers(self, reduced: Any) -> list[FloatArray]:
-        """The inverse of :meth:`reduced_multipliers`, for a warm start (``multipliers0``) from a reduced solve or a
-        neighbouring full-space one: the closure multipliers follow from stationarity in the node positions,
-        ``μ_k = μ_{k+1} − f_k`` (a suffix sum of the contact and wall forces ``f`` beyond bar ``k``)."""
-        reduced = [np.asarray(v, dtype=float) for v in reduced]
-        if [v.size for v in reduced] != [b.rows for b in self.reduced.blocks]:
-            raise ValueError("the multipliers do not match the reduced formulation's blocks.")
-        n = self.n
-        force = np.zeros((n + 1, 2))  # force of the linear rows on node k, in the closure's sign convention
-        out: list[FloatArray] = [np.zeros(0)]
-        for rb, v in zip(self.reduced.blocks, reduced, strict=True):
-            fb = self._partner(rb)
-            if rb.kind == "position":
-                np.add.at(force, fb.nodes[0::2], v.reshape(-1, 2))
-            elif rb.kind == "wall":
-                normal, _ = self.scene.walls[rb.members[0]].unit()
-                np.add.at(force, fb.nodes, -v[:, None] * np.asarray(normal)[None, :])
-            out.append(-v if rb.kind == "wall" else v.copy())
-        out[0] = -np.cumsum(force[::-1], axis=0)[::-1][1:].ravel()
-        return out
-
-    def polished_angles(self, z: FloatArray, multipliers: list[FloatArray] | None = None) -> FloatArray:
-        """``φ = z[0::3]`` moved (least norm, Gauss–Newton) onto the reduced formulation's equality rows: the
-        position rows and, given the reduced ``multipliers``, the active wall and relative-angle rows; prescribed
-        angles stay fixed.
+    # -- answer --------------------------------------------------------------------------------------------------
+    def answer(self, blocks: Sequence[Block], z: FloatArray, per_block: Sequence[FloatArray]) -> FloatArray:
+        """``φ = z[0::3]`` moved (least norm, Gauss–Newton) onto the equality rows and the active inequality rows
+        (``λ ≠ 0``) in the chain's own kinematics ``chain.nodes(φ)``; prescribed bar angles stay fixed.
 
         Why: the engine stops at the iterate whose rows are within ``tol``. The closure residuals of a Newton step
         all have one sign (they are the second-order terms ``½ l_k (cos φ_k, sin φ_k) dφ_k²``), so in the reduced
-        kinematics ``chain.nodes(φ)`` they add up along the chain: ``n`` bars each closed to ``ε`` can miss a contact
-        by ``n ε`` (5e-8 mm at n = 1600). The correction costs O(m n) for ``m`` such rows, changes the energy at second
-        order only (``∇E·δφ = −λ·r`` at a KKT point) and is kept only if it reduces the residual."""
+        kinematics they add up along the chain: ``n`` bars each closed to ``ε`` can miss a contact by ``n ε``
+        (5e-8 mm at n = 1600). The correction costs O(m n) for ``m`` such rows, changes the energy at second order
+        only (``∇E·δφ = −λ·r`` at a KKT point) and is kept only if it reduces the residual."""
+        model = self.model
         phi = self.angles(z)
-        free = np.ones(self.n, dtype=bool)
-        for block in self.reduced.block("angle"):
-            free[block.nodes - 1] = False
-        if self.reduced_violation(phi) <= POLISH_TOLERANCE * self.length_scale:
+        worst = max((float(np.max(b.violation(model, phi), initial=0.0)) for b in blocks), default=0.0)
+        if worst <= POLISH_TOLERANCE * self.scale:
             return phi
-        J, r = self._reduced_rows(phi, multipliers)
+        specs = [(b.rows(model), np.asarray(lam, dtype=float)) for b, lam in zip(blocks, per_block, strict=True)]
+        free = np.ones(model.n, dtype=bool)
+        for rows, _ in specs:
+            if isinstance(rows, AngleRows):
+                free[_fixed_columns(rows.A, rows.lb, rows.ub)[0]] = False
+        J, r = self._active_rows(phi, specs)
         if r.size == 0 or not np.any(r):
             return phi
         best = float(np.max(np.abs(r)))
         for _ in range(2):
-            step = np.zeros(self.n)
+            step = np.zeros(model.n)
             step[free] = -np.linalg.lstsq(J[:, free], r, rcond=None)[0]
             trial = phi + step
-            J_t, r_t = self._reduced_rows(trial, multipliers)
+            J_t, r_t = self._active_rows(trial, specs)
             worst = float(np.max(np.abs(r_t)))
             if not worst < best:
                 break
             phi, J, r, best = trial, J_t, r_t, worst
         return phi
 
-    def reduced_violation(self, phi: FloatArray) -> float:
-        """Largest violation (mm or rad) of the reduced formulation's linear and position rows at ``φ``, O(n)."""
-        chain, scene = self.reduced.chain, self.scene
-        nodes = chain.nodes(phi)
-        worst = 0.0
-        for rb in self.reduced.blocks:
-            if rb.kind == "position":
-                targets = np.array([scene.contacts[i].point for i in rb.members], dtype=float)
-                worst = max(worst, float(np.max(np.abs(nodes[rb.nodes[0::2]] - targets))))
-            elif rb.kind == "wall":
-                normal, offset = scene.walls[rb.members[0]].unit()
-                worst = max(worst, float(np.max(nodes[rb.nodes] @ np.asarray(normal) - offset, initial=0.0)))
-            elif rb.kind == "relative_angle":
-                con = self.reduced.constraints[rb.index]
-                v = con.A @ phi
-                worst = max(worst, float(np.max(np.maximum(con.lb - v, v - con.ub), initial=0.0)))
-        return worst
-
-    def _reduced_rows(self, phi: FloatArray, multipliers: list[FloatArray] | None) -> tuple[FloatArray, FloatArray]:
-        """Jacobian (dense, m × n) and residual of the rows :meth:`polished_angles` restores."""
-        chain, scene, n = self.reduced.chain, self.scene, self.n
-        nodes = chain.nodes(phi)
+    def _active_rows(self, phi: FloatArray, specs: Sequence[tuple[Any, FloatArray]]) -> tuple[FloatArray, FloatArray]:
+        """Jacobian (dense, m × n) and residual of the rows :meth:`answer` restores."""
+        chain, n = self.model.chain, self.model.n
+        points = chain.nodes(phi)
         J_parts, r_parts = [np.zeros((0, n))], [np.zeros(0)]
-        for rb in self.reduced.blocks:
-            lam = None if multipliers is None else np.asarray(multipliers[rb.index], dtype=float)
-            if rb.kind == "position":
-                k = rb.nodes[0::2]
-                targets = np.array([scene.contacts[i].point for i in rb.members], dtype=float)
-                r_parts.append((nodes[k] - targets).ravel())
-                J_parts.append(chain.node_jacobian(phi, k).reshape(-1, n))
-            elif rb.kind == "wall" and lam is not None and np.any(lam > 0):
-                k = rb.nodes[lam > 0]
-                normal, offset = scene.walls[rb.members[0]].unit()
-                r_parts.append(nodes[k] @ np.asarray(normal) - offset)
-                J_parts.append(np.einsum("j,mjn->mn", np.asarray(normal), chain.node_jacobian(phi, k)))
-            elif rb.kind == "relative_angle" and lam is not None and np.any(lam != 0):
-                con = self.reduced.constraints[rb.index]
-                active = np.flatnonzero(lam)
-                A = sp.csr_matrix(con.A)[active].toarray()
-                r_parts.append(A @ phi - np.where(lam[active] > 0, con.lb[active], con.ub[active]))
+        for rows, lam in specs:
+            equal = rows.lb == rows.ub
+            if isinstance(rows, AngleRows):
+                single = np.diff(sp.csr_matrix(rows.A).indptr) == 1
+                active = np.flatnonzero(~(equal & single) & (equal | (lam != 0)))
+            else:
+                active = np.flatnonzero(equal | (lam != 0))
+            if not active.size:
+                continue
+            bound = np.where(equal[active] | (lam[active] > 0), rows.lb[active], rows.ub[active])
+            if isinstance(rows, AngleRows):
+                A = sp.csr_matrix(rows.A)[active].toarray()
                 J_parts.append(A)
+                r_parts.append(A @ phi - bound)
+            else:
+                d = rows.directions[active]
+                J_parts.append(np.einsum("mi,min->mn", d, chain.node_jacobian(phi, rows.nodes[active])))
+                r_parts.append(np.einsum("mi,mi->m", d, points[rows.nodes[active]]) - bound)
         return np.vstack(J_parts), np.concatenate(r_parts)
 
-    def as_reduced_result(self, res: Any, *, polish: bool = True) -> OptimizeResult:
-        """A copy of ``res`` as the reduced formulation's result, for :func:`guidewire.result.build_solution`:
-        ``x = φ`` (:meth:`polished_angles` unless ``polish=False``), ``jac`` the energy gradient in ``φ``,
-        ``constraint_multipliers`` from :meth:`reduced_multipliers`; the full-space ``x`` and multipliers are kept as
-        ``full_x`` and ``full_constraint_multipliers``."""
-        out = OptimizeResult(dict(res))
-        z = np.asarray(res.x, dtype=float)
-        multipliers = self.reduced_multipliers(res)
-        out.x = self.polished_angles(z, multipliers) if polish else self.angles(z)
-        out.jac = self.reduced.jac(out.x)
-        out.constraint_multipliers = multipliers
-        out.full_x = z.copy()
-        out.full_constraint_multipliers = list(res.constraint_multipliers)
-        return out
 
-
-def _pack(reduced: Formulation, scale: float, phi: FloatArray, nodes: FloatArray | None = None) -> FloatArray:
-    phi = np.asarray(phi, dtype=float)
-    p = reduced.chain.nodes(phi) if nodes is None else np.asarray(nodes, dtype=float)
-    z = np.empty(3 * phi.size)
-    z[0::3], z[1::3], z[2::3] = phi, p[1:, 0] / scale, p[1:, 1] / scale
-    return z
-
-
-def _fix_angles(reduced: Formulation, phi: FloatArray) -> FloatArray:
-    """``phi`` with the prescribed angles set (paper scheme)."""
+def _onto_angle_rows(phi: FloatArray, specs: Sequence[AngleRows]) -> FloatArray:
+    """``phi`` with the prescribed bar angles set and, when it violates an inequality angle row, the nearest angles
+    (least squares) within those rows shrunk by :data:`START_MARGIN` (a QP in ``n`` variables, by :mod:`sqp`)."""
+    if not specs:
+        return phi
     phi = phi.copy()
-    for block in reduced.block("angle"):
-        phi[block.nodes - 1] = [reduced.scene.contacts[i].angle for i in block.members]
-    return phi
-
-
-def _project_relative_angles(reduced: Formulation, phi: FloatArray) -> FloatArray:
-    """The nearest angles (least squares) within the b₂ rows, shrunk by :data:`START_MARGIN`, and the prescribed
-    angles; ``phi`` itself when it already satisfies them. A sparse QP in ``n`` variables."""
-    rows = reduced.block("relative_angle")
-    if not rows:
+    for rows in specs:
+        cols, values = _fixed_columns(rows.A, rows.lb, rows.ub)
+        phi[cols] = values
+    if all(np.all(row_ok) for row_ok in (((r.A @ phi) >= r.lb) & ((r.A @ phi) <= r.ub) for r in specs)):
         return phi
-    con = reduced.constraints[rows[0].index]
-    A = sp.csr_matrix(con.A)
-    value = A @ phi
-    if np.all(value >= con.lb) and np.all(value <= con.ub):
-        return phi
-    margin = np.minimum(START_MARGIN, 0.25 * (con.ub - con.lb))
-    n = reduced.n
-    eq = [np.flatnonzero(np.abs(reduced.constraints[b.index].A).sum(axis=0)) for b in reduced.block("angle")]
-    fixed = np.concatenate([np.zeros(0, dtype=int), *eq])
-    E = sp.csr_matrix((np.ones(fixed.size), (np.arange(fixed.size), fixed)), shape=(fixed.size, n))
-    solver = "clarabel" if "clarabel" in qpsolvers.available_solvers else "osqp"
-    x = qpsolvers.solve_qp(sp.identity(n, format="csc"), -phi, sp.vstack([A, -A], format="csc"),
-                           np.concatenate([con.ub - margin, margin - con.lb]), E if fixed.size else None,
-                           phi[fixed] if fixed.size else None, solver=solver)
-    return phi if x is None else _fix_angles(reduced, np.asarray(x, dtype=float))
-
-
-def _start(reduced: Formulation, phi0: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """Start angles and nodes satisfying every linear row."""
-    scene, chain = reduced.scene, reduced.chain
-    phi = _project_relative_angles(reduced, _fix_angles(reduced, np.asarray(phi0, dtype=float)))
-    p = chain.nodes(phi)
-    for i, k in enumerate(reduced.contact_nodes):
-        if scene.contacts[i].point is not None:
-            p[k] = scene.contacts[i].point
-    if scene.walls:
-        margin = WALL_START_MARGIN * scene.wire.length
-        units = [(np.asarray(w.unit()[0]), w.unit()[1]) for w in scene.walls]
-        for _ in range(10):  # alternating projections onto the walls' half-planes (one round for one wall)
-            moved = False
-            for normal, offset in units:
-                excess = p[1:] @ normal - (offset - margin)
-                bad = excess > 0.0
-                if np.any(bad):
-                    p[1:][bad] -= excess[bad, None] * normal[None, :]
-                    moved = True
-            if not moved:
-                break
-    return phi, p
-
-
-def length_scale(scene: Scene) -> float:
-    """``s = max(1 mm, |base| + L)``: every node lies within ``s`` of the origin, so the scaled node variables are
-    at most 1 in magnitude, like the angles."""
-    return max(1.0, float(np.hypot(*scene.base.point)) + scene.wire.length)
-
-
-def formulate_full(
-    scene: Scene,
-    *,
-    scheme: str | None = None,
-    bars: int | None = None,
-    initial_angles: Any = None,
-    initial_nodes: Any = None,
-) -> FullSpaceFormulation:
-    """Turn ``scene`` into the full-space arguments of :func:`sqp.minimize` (see the module docstring).
-
-    Parameters are those of :func:`guidewire.formulation.formulate`; the start is its ``x0``.
-
-    Raises
-    ------
-    ValueError
-        As :func:`~guidewire.formulation.formulate`.
-    """
-    reduced = formulate(scene, scheme=scheme, bars=bars, initial_angles=initial_angles, initial_nodes=initial_nodes)
-    scene, chain, n = reduced.scene, reduced.chain, reduced.n
-    scale = length_scale(scene)
-    closure = _Closure.build(chain.base_point, chain.lengths, scale)
-    blocks = [ConstraintBlock("closure", 0, tuple(range(1, n + 1)), np.repeat(np.arange(1, n + 1), 2))]
-    constraints: list[Any] = [closure.constraint()]
-    for rb in reduced.blocks:
-        con = reduced.constraints[rb.index]
-        if rb.kind == "position":
-            ids = list(rb.members)
-            k = reduced.contact_nodes[ids]
-            cols = np.column_stack((_x(k), _y(k))).ravel()
-            target = np.array([scene.contacts[i].point for i in ids], dtype=float).ravel()
-            A = sp.csr_matrix((np.full(cols.size, scale), (np.arange(cols.size), cols)), shape=(cols.size, 3 * n))
-            new = LinearConstraint(A, target, target)
-        elif rb.kind == "wall":
-            (nx, ny), offset = scene.walls[rb.members[0]].unit()
-            k = rb.nodes
-            rows = np.repeat(np.arange(k.size), 2)
-            cols = np.column_stack((_x(k), _y(k))).ravel()
-            A = sp.csr_matrix((np.tile([scale * nx, scale * ny], k.size), (rows, cols)), shape=(k.size, 3 * n))
-            new = LinearConstraint(A, np.full(k.size, -np.inf), np.full(k.size, offset))
-        elif rb.kind in ("angle", "relative_angle"):
-            new = LinearConstraint(_embed_columns(con.A, n), con.lb, con.ub)
-        else:  # pragma: no cover - a block kind added to formulate() must be added here
-            raise NotImplementedError(f"no full-space form of the {rb.kind!r} block")
-        blocks.append(ConstraintBlock(rb.kind, len(constraints), rb.members, rb.nodes))
-        constraints.append(new)
-    H = sp.coo_matrix(reduced.hess0)
-    hess0 = sp.csc_matrix((H.data, (_phi(H.row), _phi(H.col))), shape=(3 * n, 3 * n))
-    return FullSpaceFormulation(reduced=reduced, blocks=tuple(blocks), constraints=tuple(constraints), hess0=hess0,
-                                x0=_pack(reduced, scale, *_start(reduced, reduced.x0)), length_scale=scale)
-
-
-def solve_full(
-    scene: Scene,
-    *,
-    scheme: str | None = None,
-    bars: int | None = None,
-    initial_angles: Any = None,
-    initial_nodes: Any = None,
-    multipliers0: Any = None,
-    qp_solver: str | None = None,
-    qp_options: dict[str, Any] | None = None,
-    tol: float = 1e-8,
-    max_iter: int = 500,
-    verbose: bool = False,
-) -> Solution:
-    """:func:`guidewire.solve` (exact Hessian) through the full-space program: the same :class:`Solution`, with
-    ``result`` the reduced view of the ``sqp`` result (:meth:`FullSpaceFormulation.as_reduced_result`).
-
-    ``multipliers0`` are reduced multipliers (``solution.result.constraint_multipliers`` of a neighbouring solve, every
-    wall on every node), used when their blocks match; ``qp_solver`` defaults to
-    :attr:`FullSpaceFormulation.qp_solver`.
-    """
-    start = time.perf_counter()
-    full = formulate_full(scene, scheme=scheme, bars=bars, initial_angles=initial_angles, initial_nodes=initial_nodes)
-    args = full.arguments()
-    args["hess"] = full.hess
-    if multipliers0 is not None and [np.size(m) for m in multipliers0] == [b.rows for b in full.reduced.blocks]:
-        args["multipliers0"] = full.full_multipliers(multipliers0)
-    res = sqp.minimize(**args, qp_solver=qp_solver if qp_solver is not None else full.qp_solver,
-                       qp_options=qp_options, tol=tol, max_iter=max_iter, verbose=verbose)
-    return build_solution(full.reduced, full.as_reduced_result(res), time.perf_counter() - start)
+    n = phi.size
+    constraints = []
+    for rows in specs:
+        equal = rows.lb == rows.ub
+        margin = np.where(equal, 0.0, np.minimum(START_MARGIN, 0.25 * (rows.ub - rows.lb)))
+        constraints.append(LinearConstraint(rows.A, rows.lb + margin, rows.ub - margin))
+    target = phi.copy()
+    res = sqp.minimize(lambda x: 0.5 * float((x - target) @ (x - target)), phi, jac=lambda x: x - target,
+                       hess=lambda x: sp.identity(n, format="csc"), constraints=constraints)
+    return np.asarray(res.x, dtype=float) if res.success else phi

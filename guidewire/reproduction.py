@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from .feasibility import infeasibility
 from .paper import paper_groups
 from .result import Solution
 from .scene import SCHEMES, Scene
@@ -154,7 +155,7 @@ def reproduce(out: str | Path, *, qp_solver: str | None = None, figures: bool = 
         panels = []
         by_scheme: dict[str, list[tuple[Solution, Any]]] = {scheme: [] for scheme in SCHEMES}
         for scene in scenes:
-            reason = scene.infeasibility()
+            reason = infeasibility(scene)
             if reason is not None:
                 rows.append(Row(group, scene.name, "-", scene.wire.bars, "infeasible", note=reason))
                 log(f"{scene.name:20s} infeasible: {reason}")

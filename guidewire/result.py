@@ -8,7 +8,10 @@ Sign conventions (all on the wire, counter-clockwise positive, N and N·mm):
   in the second-order scheme, where the angle is in the energy, ``M = +∂E/∂θ*``. The base clamp's moment is
   ``∂E/∂θ_A`` in both schemes (``= −EI κ(0)``: the clamp resists the wire's bending moment). A rigid rotation of
   wire and supports leaves ``E`` unchanged, which makes these the moments that balance the forces' moments.
-- A wall pushes node ``k`` with ``−λ_k n̂`` (``n̂`` the unit outward normal, ``λ_k ≥ 0``).
+- A wall pushes node ``k`` with ``−λ_k n̂`` (``n̂`` the unit outward normal, ``λ_k ≥ 0``); in general a block's node
+  rows push with ``λ_r d_r`` (:mod:`guidewire.blocks.base`: one sign convention in both layouts).
+- Forces and moments come from multipliers, which mean something only at a KKT point: a failed solve carries none
+  (every ``force``/``moment`` None, ``wall_forces`` None).
 - The base point is not a variable, so its force follows from global balance: ``F_base = −Σ (contact + wall
   forces)``. The moments are *not* balanced by construction; :meth:`Solution.moment_balance` is a real check.
 """
@@ -21,8 +24,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .formulation import Formulation, wall_gaps
+from .blocks import Block, Loads
+from .formulation import Formulation
 from .scene import Scene
+from .scene_file import scene_to_dict
 
 FloatArray = NDArray[np.float64]
 
@@ -92,18 +97,31 @@ class Solution:
     energy : float
         Bending energy (N·mm).
     reactions : tuple of Reaction
-        The base first, then every contact in order.
-    wall_forces : ndarray, shape (n + 1, 2)
-        Total force of the walls on each node (N).
+        The base first, then every contact in order (forces and moments None after a failed solve).
+    wall_forces : ndarray, shape (n + 1, 2), or None
+        Total force of the walls on each node (N); None after a failed solve.
     success, status, message :
-        The solver's verdict (``status`` the ``sqp`` status code).
+        The verdict (``status`` the ``sqp`` status code of the run that gave the answer; ``message`` its message,
+        followed by what the fallback did when one ran).
     iterations : int
+        SQP iterations summed over every run: every working-set round and the fallback.
     solve_time_s : float
-        Wall-clock time of ``sqp.minimize`` (s).
+        Wall-clock time of the whole solve (formulation, every run, assembly), s.
     max_violation : float
-        Largest constraint violation at the answer, evaluated here (mm or rad).
+        Largest constraint violation at the answer, evaluated here (mm or rad; walls at every node).
     result : object
-        The raw ``sqp`` result.
+        The raw ``sqp`` result of the run that gave the answer (its ``x`` in that run's layout).
+    layout : {"reduced", "full"}
+        The program that gave the answer (:func:`guidewire.formulation.formulate`).
+    rounds : int
+        Number of ``sqp.minimize`` runs (working-set rounds and fallback included).
+    fallback : str or None
+        The fallback that gave the answer (``"damped BFGS"``), or None.
+    blocks : tuple of Block
+        The constraint blocks of the answer's formulation.
+    multipliers : tuple of ndarray
+        Their multipliers, one array per block (:mod:`guidewire.blocks.base` sign convention), for warm starts
+        (``solve(multipliers0=solution)``).
     """
 
     scene: Scene
@@ -117,7 +135,7 @@ class Solution:
     paper_stress_measure: FloatArray
     energy: float
     reactions: tuple[Reaction, ...]
-    wall_forces: FloatArray
+    wall_forces: FloatArray | None
     success: bool
     status: int
     message: str
@@ -125,6 +143,11 @@ class Solution:
     solve_time_s: float
     max_violation: float
     result: Any
+    layout: str = "reduced"
+    rounds: int = 1
+    fallback: str | None = None
+    blocks: tuple[Block, ...] = ()
+    multipliers: tuple[FloatArray, ...] = ()
 
     @property
     def scheme(self) -> str:
@@ -137,7 +160,10 @@ class Solution:
         return int(self.bar_angles.size)
 
     def moment_balance(self) -> float:
-        """Resultant moment about the base of every support force and moment (N·mm); ≈ 0 at equilibrium."""
+        """Resultant moment about the base of every support force and moment (N·mm); ≈ 0 at equilibrium; nan after
+        a failed solve (no forces)."""
+        if self.wall_forces is None:
+            return float("nan")
         base = self.nodes[0]
         total = 0.0
         for r in self.reactions:
@@ -150,19 +176,28 @@ class Solution:
         return float(total + np.sum(arms[:, 0] * self.wall_forces[:, 1] - arms[:, 1] * self.wall_forces[:, 0]))
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready values (lists and numbers)."""
+        """JSON-ready values (lists and numbers); ``units`` names the unit of every quantity, ``scene`` is the
+        scene's geometry as a scene file holds it (:func:`guidewire.scene_file.scene_to_dict`)."""
         return {
-            "scene": self.scene.name, "scheme": self.scheme, "bars": self.n_bars,
-            "success": self.success, "status": self.status, "message": self.message,
-            "energy": self.energy, "iterations": self.iterations, "solve_time_s": self.solve_time_s,
-            "max_violation": self.max_violation,
+            "units": UNITS, "scene": scene_to_dict(self.scene), "scheme": self.scheme, "bars": self.n_bars,
+            "layout": self.layout, "success": self.success, "status": self.status, "message": self.message,
+            "fallback": self.fallback, "energy": self.energy, "iterations": self.iterations, "rounds": self.rounds,
+            "solve_time_s": self.solve_time_s, "max_violation": self.max_violation,
             "nodes": self.nodes.tolist(), "s": self.s.tolist(), "bar_angles": self.bar_angles.tolist(),
             "tangent_angles": self.tangent_angles.tolist(), "relative_angles": self.relative_angles.tolist(),
             "curvature": self.curvature.tolist(), "bending_stress_mpa": self.bending_stress_mpa.tolist(),
             "paper_stress_measure": self.paper_stress_measure.tolist(),
-            "contact_reactions": [r.to_dict() for r in self.reactions],
-            "wall_forces": self.wall_forces.tolist(),
+            "base_reaction": self.reactions[0].to_dict(),
+            "contact_reactions": [r.to_dict() for r in self.reactions[1:]],
+            "wall_forces": None if self.wall_forces is None else self.wall_forces.tolist(),
         }
+
+
+#: The unit of every quantity in :meth:`Solution.to_dict` (and in the scene's geometry).
+UNITS = {
+    "length": "mm", "angle": "rad", "force": "N", "moment": "N*mm", "energy": "N*mm", "curvature": "1/mm",
+    "stress": "MPa", "youngs_modulus": "MPa", "time": "s",
+}
 
 
 def _node_geometry(form: Formulation, phi: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -184,68 +219,55 @@ def _node_geometry(form: Formulation, phi: FloatArray) -> tuple[FloatArray, Floa
     return tangent, relative, curvature
 
 
-def _reactions(form: Formulation, phi: FloatArray, nodes: FloatArray, multipliers: list[Any]) -> tuple[
-    tuple[Reaction, ...], FloatArray
-]:
-    """Support reactions and wall forces from the multipliers (module docstring for the signs)."""
+def _reactions(form: Formulation, phi: FloatArray, nodes: FloatArray, multipliers: list[FloatArray] | None
+               ) -> tuple[tuple[Reaction, ...], FloatArray | None]:
+    """Support reactions and wall forces from the per-block multipliers (module docstring for the signs); without
+    multipliers (a failed solve) the supports and their nodes, with no force or moment."""
     scene, energy, n = form.scene, form.energy, form.n
     contacts = scene.contacts
-    forces: dict[int, FloatArray] = {}
-    moments: dict[int, float] = {}
-    wall_forces = np.zeros((n + 1, 2))
-    for block in form.blocks:
-        lam = np.asarray(multipliers[block.index], dtype=float)
-        if block.kind == "position":
-            for i, f in zip(block.members, lam.reshape(-1, 2), strict=True):
-                forces[i] = f
-        elif block.kind == "angle":
-            moments.update(zip(block.members, lam.tolist(), strict=True))
-        elif block.kind == "wall":
-            normal, _ = scene.walls[block.members[0]].unit()
-            wall_forces[block.nodes] -= lam[:, None] * np.asarray(normal)[None, :]
+    loads = Loads.empty(n)
+    if multipliers is not None:
+        for block, lam in zip(form.blocks, multipliers, strict=True):
+            block.add_loads(form.model, lam, loads)
+    forces, moments = loads.forces, loads.moments
     # ∂E/∂θ* per node from the terms that contain a prescribed tangent (∂r_t/∂θ* = row sum of D_t).
-    row_sum = energy.row_sum
     node_moment = np.zeros(n + 1)
-    np.add.at(node_moment, energy.node, -2.0 * energy.weight * energy.joint_angles(phi) * row_sum)
+    np.add.at(node_moment, energy.node, -2.0 * energy.weight * energy.joint_angles(phi) * energy.row_sum)
     for i, (node, contact) in enumerate(zip(form.contact_nodes, contacts, strict=True)):
         if contact.angle is not None and i not in moments:
             moments[i] = float(node_moment[node])
-    base_force = -(sum(forces.values(), np.zeros(2)) + wall_forces.sum(axis=0))
     base = scene.base
-    out = [
-        Reaction(base.name, "base", 0.0, 0, nodes[0].copy(), base_force,
-                 None if base.angle is None else float(node_moment[0]))
-    ]
+    base_force = -(sum(forces.values(), np.zeros(2)) + loads.node_forces.sum(axis=0))
+    base_moment = None if base.angle is None else float(node_moment[0])
+    if multipliers is None:
+        forces, moments, base_force, base_moment = {}, {}, None, None
+    out = [Reaction(base.name, "base", 0.0, 0, nodes[0].copy(), base_force, base_moment)]
     for i, (node, contact) in enumerate(zip(form.contact_nodes, contacts, strict=True)):
-        out.append(
-            Reaction(contact.label(i), "contact", contact.s, int(node), nodes[node].copy(), forces.get(i),
-                     moments.get(i))
-        )
-    return tuple(out), wall_forces
+        out.append(Reaction(contact.label(i), "contact", contact.s, int(node), nodes[node].copy(), forces.get(i),
+                            moments.get(i)))
+    return tuple(out), (None if multipliers is None else loads.node_forces)
 
 
-def _max_violation(form: Formulation, phi: FloatArray) -> float:
-    """Largest violation of any constraint row, and of every wall at every node (not only the working set)."""
-    worst = float(np.max(form.violations(phi), initial=0.0))
-    if form.scene.walls:
-        worst = max(worst, float(np.max(-wall_gaps(form.chain, phi, form.scene.walls), initial=0.0)))
-    return worst
+def build_solution(form: Formulation, res: Any, solve_time_s: float, *, iterations: int | None = None,
+                   rounds: int = 1, fallback: str | None = None, message: str | None = None) -> Solution:
+    """Assemble a :class:`Solution` from the formulation and the ``sqp`` result ``res`` of its program.
 
-
-def build_solution(form: Formulation, res: Any, solve_time_s: float) -> Solution:
-    """Assemble a :class:`Solution` from the formulation and the ``sqp`` result at ``res.x``."""
-    phi = np.asarray(res.x, dtype=float)
+    The bar angles are :meth:`Formulation.answer`; forces and moments only when ``res.success``.
+    """
+    multipliers = form.multipliers(res)
+    phi = form.answer(np.asarray(res.x, dtype=float), multipliers)
     wire = form.scene.wire
     nodes = form.chain.nodes(phi)
     tangent, relative, curvature = _node_geometry(form, phi)
-    multipliers = list(getattr(res, "constraint_multipliers", None) or [np.zeros(b.rows) for b in form.blocks])
-    reactions, wall_forces = _reactions(form, phi, nodes, multipliers)
+    reactions, wall_forces = _reactions(form, phi, nodes, multipliers if res.success else None)
     return Solution(
         scene=form.scene, nodes=nodes, s=form.chain.arc_lengths, bar_angles=phi, tangent_angles=tangent,
         relative_angles=relative, curvature=curvature,
         bending_stress_mpa=wire.youngs_modulus * 0.5 * wire.diameter * np.abs(curvature),
-        paper_stress_measure=np.abs(relative), energy=float(form.fun(phi)), reactions=reactions,
+        paper_stress_measure=np.abs(relative), energy=float(form.energy.value(phi)), reactions=reactions,
         wall_forces=wall_forces, success=bool(res.success), status=int(res.status),
-        message=str(res.message), iterations=int(res.nit), solve_time_s=float(solve_time_s),
-        max_violation=_max_violation(form, phi), result=res,
+        message=str(res.message) if message is None else message,
+        iterations=int(res.nit) if iterations is None else int(iterations), solve_time_s=float(solve_time_s),
+        max_violation=form.max_violation(phi), result=res, layout=form.layout.name, rounds=int(rounds),
+        fallback=fallback, blocks=form.blocks, multipliers=tuple(multipliers),
     )

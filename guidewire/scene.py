@@ -4,48 +4,27 @@ A scene is what the paper's Tables 1, 2, 4 and 5 and Fig. 6 specify: a wire of i
 rigid bars (§2.1), a base at arc length ``s = 0`` (the vessel entrance, point ``A``/``O``), zero or more contacts at
 arc lengths ``s`` with a known position and/or tangent angle (§2.3.2), and zero or more straight walls (Eqs. 23–24).
 Every value is checked when it is built; a bad field raises ``ValueError``/``TypeError`` naming the field and the fix.
-Whether the contacts can be reached at all (:meth:`Scene.check_feasible`) is a separate check, run before solving,
-so that an infeasible scene such as the printed Table 5 can still be held, drawn and reported.
+Whether the contacts can be reached at all (:func:`guidewire.feasibility.check_feasible`) is a separate check, run
+before solving, so that an infeasible scene such as the printed Table 5 can still be held, drawn and reported.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
-from functools import cached_property
 from typing import Any
+
+from .fields import fmt as _fmt
+from .fields import point as _point
+from .fields import real as _real
+from .fields import warn_angle, warn_modulus
 
 SCHEMES = ("second_order", "paper")
 """Discretisations of the bending energy; see :mod:`guidewire.formulation`."""
 
 S_ROUNDING = 1e-12
 """A contact within this fraction of the wire length of its end is at the end (rounding in ``k·(L/n)``)."""
-
-def _real(value: Any, name: str) -> float:
-    """``value`` as a finite float, or a TypeError/ValueError naming ``name``."""
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise TypeError(f"{name} is {value!r} of type {type(value).__name__}; expected a real number.")
-    out = float(value)
-    if not math.isfinite(out):
-        raise ValueError(f"{name} is {out}; expected a finite number.")
-    return out
-
-
-def _point(value: Any, name: str) -> tuple[float, float]:
-    """``value`` as an ``(x, y)`` tuple of finite floats."""
-    if isinstance(value, str) or not isinstance(value, Sequence | Iterable):
-        raise TypeError(f"{name} is {value!r}; expected two numbers [x, y] in mm.")
-    items = list(value)
-    if len(items) != 2:
-        raise ValueError(f"{name} has {len(items)} entries; expected two numbers [x, y] in mm.")
-    return (_real(items[0], f"{name}[0]"), _real(items[1], f"{name}[1]"))
-
-
-def _fmt(value: float) -> str:
-    """A number as the paper prints it: ``80``, ``28.5``."""
-    return f"{value:g}"
-
 
 @dataclass(frozen=True)
 class Wire:
@@ -58,7 +37,8 @@ class Wire:
     bars : int
         Number ``n`` of rigid bars (≥ 1).
     youngs_modulus : float
-        ``E`` in MPa (N/mm²); default the paper's 3.56 GPa.
+        ``E`` in MPa (N/mm²); default the paper's 3.56 GPa. Below 100 MPa a
+        :class:`~guidewire.fields.SuspiciousValueWarning` says it is probably in GPa.
     diameter : float
         ``d`` in mm; default the paper's 0.78 mm. Used for the bending stress ``σ = E·(d/2)·|κ|`` and, when
         ``moment_of_inertia`` is None, for ``I = π d⁴ / 64``.
@@ -91,6 +71,7 @@ class Wire:
             if value <= 0.0:
                 raise ValueError(f"wire.{name} is {value}; it must be positive.")
             object.__setattr__(self, name, value)
+        warn_modulus(self.youngs_modulus, "wire.youngs_modulus")
         if self.moment_of_inertia is not None:
             inertia = _real(self.moment_of_inertia, "wire.moment_of_inertia")
             if inertia <= 0.0:
@@ -128,7 +109,8 @@ class Base:
     point : (float, float)
         Position in mm.
     angle : float or None
-        Tangent angle in rad (counter-clockwise from +x); None leaves the wire free to rotate about ``point``.
+        Tangent angle in rad (counter-clockwise from +x); None leaves the wire free to rotate about ``point``. Above
+        2π in magnitude a :class:`~guidewire.fields.SuspiciousValueWarning` says it is probably in degrees.
     name : str
         Label used in messages and figures (the paper's ``A`` or ``O``).
     """
@@ -141,6 +123,7 @@ class Base:
         object.__setattr__(self, "point", _point(self.point, "base.point"))
         if self.angle is not None:
             object.__setattr__(self, "angle", _real(self.angle, "base.angle"))
+            warn_angle(self.angle, "base.angle")
 
 
 @dataclass(frozen=True)
@@ -154,7 +137,8 @@ class Contact:
     point : (float, float) or None
         Position in mm (Eqs. 20–21); None leaves it free.
     angle : float or None
-        Tangent angle in rad (Eqs. 16–18); None leaves it free.
+        Tangent angle in rad (Eqs. 16–18); None leaves it free. Taken literally (``θ + 2π`` asks for a loop);
+        above 2π in magnitude a :class:`~guidewire.fields.SuspiciousValueWarning` says it is probably in degrees.
     name : str
         Label used in messages and figures (the paper's ``B``, ``C``, ``P1``...).
     """
@@ -170,6 +154,7 @@ class Contact:
             object.__setattr__(self, "point", _point(self.point, "contact.point"))
         if self.angle is not None:
             object.__setattr__(self, "angle", _real(self.angle, "contact.angle"))
+            warn_angle(self.angle, "contact.angle")
         if self.point is None and self.angle is None:
             raise ValueError(f"contact at s = {_fmt(self.s)} has neither point nor angle; give at least one.")
 
@@ -278,29 +263,6 @@ class Scene:
         if not ends or ends[-1] < self.wire.length:
             ends.append(self.wire.length)
         return tuple(ends)
-
-    def infeasibility(self) -> str | None:
-        """Why no wire shape can meet this scene, or None when nothing obvious forbids it.
-
-        Necessary conditions only (:mod:`guidewire.feasibility`): prescribed positions within reach of the wire
-        between them, the base and contact points inside every wall, a taut stretch of wire straight along its chord,
-        prescribed angles within the turning ``b₂`` allows, and positions within reach of the scene's bars.
-        """
-        return self._infeasibility
-
-    @cached_property
-    def _infeasibility(self) -> str | None:
-        """:meth:`infeasibility`, computed once per scene (a scene is immutable; a solve may ask several times)."""
-        from .feasibility import infeasibility
-
-        return infeasibility(self)
-
-    def check_feasible(self) -> None:
-        """Raise ``ValueError`` with the reason when :meth:`infeasibility` finds one."""
-        reason = self.infeasibility()
-        if reason is not None:
-            label = f"scene {self.name!r}" if self.name else "scene"
-            raise ValueError(f"{label} is infeasible: {reason}.")
 
     # ----------------------------------------------------------------------------------------------------------
     def with_bars(self, bars: int) -> Scene:

@@ -158,33 +158,51 @@ def _toml_value(value: Any) -> str:
     return "[" + ", ".join(_toml_value(v) for v in value) + "]"
 
 
+def scene_to_dict(scene: Scene) -> dict[str, Any]:
+    """The scene as the mapping of a scene file (mm, rad, MPa; only the fields that are set), which
+    :func:`scene_from_dict` reads back to an equal :class:`Scene`; JSON-ready."""
+    w = scene.wire
+    wire: dict[str, Any] = {"length": w.length, "bars": w.bars, "youngs_modulus": w.youngs_modulus,
+                            "diameter": w.diameter}
+    if w.moment_of_inertia is not None:
+        wire["moment_of_inertia"] = w.moment_of_inertia
+    if w.max_relative_angle is not None:
+        wire["max_relative_angle"] = w.max_relative_angle
+    wire["scheme"] = w.scheme
+    base: dict[str, Any] = {"point": list(scene.base.point)}
+    if scene.base.angle is not None:
+        base["angle"] = scene.base.angle
+    base["name"] = scene.base.name
+    contacts = []
+    for contact in scene.contacts:
+        item: dict[str, Any] = {"s": contact.s}
+        if contact.point is not None:
+            item["point"] = list(contact.point)
+        if contact.angle is not None:
+            item["angle"] = contact.angle
+        if contact.name:
+            item["name"] = contact.name
+        contacts.append(item)
+    out: dict[str, Any] = {}
+    if scene.name:
+        out["name"] = scene.name
+    if scene.notes:
+        out["notes"] = scene.notes
+    out["wire"], out["base"] = wire, base
+    if contacts:
+        out["contact"] = contacts
+    if scene.walls:
+        out["wall"] = [{"normal": list(wall.normal), "offset": wall.offset} for wall in scene.walls]
+    return out
+
+
 def scene_to_toml(scene: Scene) -> str:
     """The scene as TOML text that :func:`load_scene` reads back to an equal :class:`Scene`."""
-    lines: list[str] = []
-    if scene.name:
-        lines.append(f"name = {_toml_value(scene.name)}")
-    if scene.notes:
-        lines.append(f"notes = {_toml_value(scene.notes)}")
-    w = scene.wire
-    lines += ["", "[wire]", f"length = {_toml_value(w.length)}", f"bars = {w.bars}"]
-    lines += [f"youngs_modulus = {_toml_value(w.youngs_modulus)}", f"diameter = {_toml_value(w.diameter)}"]
-    if w.moment_of_inertia is not None:
-        lines.append(f"moment_of_inertia = {_toml_value(w.moment_of_inertia)}")
-    if w.max_relative_angle is not None:
-        lines.append(f"max_relative_angle = {_toml_value(w.max_relative_angle)}")
-    lines.append(f"scheme = {_toml_value(w.scheme)}")
-    lines += ["", "[base]", f"point = {_toml_value(scene.base.point)}"]
-    if scene.base.angle is not None:
-        lines.append(f"angle = {_toml_value(scene.base.angle)}")
-    lines.append(f"name = {_toml_value(scene.base.name)}")
-    for contact in scene.contacts:
-        lines += ["", "[[contact]]", f"s = {_toml_value(contact.s)}"]
-        if contact.point is not None:
-            lines.append(f"point = {_toml_value(contact.point)}")
-        if contact.angle is not None:
-            lines.append(f"angle = {_toml_value(contact.angle)}")
-        if contact.name:
-            lines.append(f"name = {_toml_value(contact.name)}")
-    for wall in scene.walls:
-        lines += ["", "[[wall]]", f"normal = {_toml_value(wall.normal)}", f"offset = {_toml_value(wall.offset)}"]
+    data = scene_to_dict(scene)
+    lines = [f"{key} = {_toml_value(data[key])}" for key in ("name", "notes") if key in data]
+    for table in ("wire", "base"):
+        lines += ["", f"[{table}]", *(f"{k} = {_toml_value(v)}" for k, v in data[table].items())]
+    for table in ("contact", "wall"):
+        for item in data.get(table, []):
+            lines += ["", f"[[{table}]]", *(f"{k} = {_toml_value(v)}" for k, v in item.items())]
     return "\n".join(lines) + "\n"

@@ -13,6 +13,7 @@ import pytest
 
 import sqp
 from guidewire import cli, load_scene, solve
+from guidewire.feasibility import infeasibility
 
 VALID = """\
 [wire]
@@ -110,7 +111,7 @@ def _write(tmp_path, text):
 
 def test_the_valid_scene_is_valid(tmp_path):
     scene = load_scene(_write(tmp_path, VALID))
-    assert scene.infeasibility() is None
+    assert infeasibility(scene) is None
     assert solve(scene).success
 
 

@@ -114,7 +114,7 @@ def test_unequal_joint_weights():
 
 def _kinds(scene, **kw):
     form = formulate(scene, **kw)
-    return [(b.kind, b.rows) for b in form.blocks], form
+    return [(b.kind, b.size) for b in form.blocks], form
 
 
 def test_rows_only_for_what_the_scene_has():

@@ -10,11 +10,9 @@ import scipy.sparse as sp
 from scipy.optimize import LinearConstraint
 
 import sqp
-from guidewire import Base, Contact, Scene, Wall, Wire, paper_scenes
-from guidewire.formulation import wall_gaps
-from guidewire.full_space import POLISH_TOLERANCE, formulate_full, solve_full
+from guidewire import Base, Contact, Scene, Wall, Wire, formulate, paper_scenes, solve
+from guidewire.full_space import POLISH_TOLERANCE
 from guidewire.result import build_solution
-from guidewire.solve import solve
 from sqp.hessian import convexify
 
 SCENES = paper_scenes()
@@ -31,6 +29,20 @@ def _rich_scene(scheme):
     walls = (Wall((0.0, 1.0), 60.0), Wall((1.5, -1.0), 100.0))
     wire = Wire(100.0, 20, moment_of_inertia=0.01816, max_relative_angle=0.5, scheme=scheme)
     return Scene(wire, Base((0.0, 0.0), 0.1), contacts, walls)
+
+
+def formulate_full(scene, **kw):
+    return formulate(scene, layout="full", **kw)
+
+
+def solve_full(scene, **kw):
+    return solve(scene, layout="full", **kw)
+
+
+def wall_gaps(chain, phi, walls):
+    """``offset − n̂·p_k`` for every wall and node 1..n (negative: violated)."""
+    pts = chain.nodes(phi)[1:]
+    return np.array([w.unit()[1] - pts @ np.asarray(w.unit()[0]) for w in walls])
 
 
 def _fd_jacobian(fun, x, h=1e-6):
@@ -60,7 +72,8 @@ def test_blocks_and_start(scheme):
     """The reduced blocks after the closure, sparse linear rows, and a start on every linear row (no projection)."""
     full = formulate_full(_rich_scene(scheme))
     kinds = [b.kind for b in full.blocks]
-    assert kinds == ["closure"] + [b.kind for b in full.reduced.blocks]
+    assert kinds == [b.kind for b in formulate(_rich_scene(scheme)).blocks]
+    assert [b.index for b in full.blocks] == list(range(1, len(kinds) + 1))  # the closure first
     assert kinds.count("wall") == 2 and ("angle" in kinds) == (scheme == "paper")
     for block in full.block("wall"):
         assert np.array_equal(block.nodes, np.arange(1, full.n + 1))
@@ -69,7 +82,7 @@ def test_blocks_and_start(scheme):
         az = con.A @ full.x0
         assert np.all(az >= con.lb - 1e-12) and np.all(az <= con.ub + 1e-12)
     assert np.allclose(full.angles(full.x0)[: full.n], full.x0[0::3])
-    assert np.allclose(full.pack(full.angles(full.x0), full.nodes(full.x0)), full.x0)
+    assert np.allclose(full.layout.pack(full.angles(full.x0), full.nodes(full.x0)), full.x0)
 
 
 @cache
@@ -77,9 +90,9 @@ def _pair(name, scheme, bars=100):
     """(full-space result, its Solution, the reduced Solution) of one paper scene."""
     scene = SCENES[name]
     full = formulate_full(scene, scheme=scheme, bars=bars)
-    res = sqp.minimize(**full.arguments(), hess=full.hess, qp_solver=full.qp_solver)
-    ref = solve(scene, scheme=scheme, bars=bars, formulation="reduced")
-    return full, res, build_solution(full.reduced, full.as_reduced_result(res), 0.0), ref
+    res = sqp.minimize(**full.arguments(), hess=full.hess)
+    ref = solve(scene, scheme=scheme, bars=bars, layout="reduced")
+    return full, res, build_solution(full, res, 0.0), ref
 
 
 CASES = [(name, scheme) for name in ("table1_pi_4", "fig6a", "table4") for scheme in ("second_order", "paper")]
@@ -112,18 +125,23 @@ def test_same_answer_as_reduced(name, scheme):
 def test_walls_hold_at_every_node():
     full, res, sol, _ = _pair("fig6a", "second_order")
     scene = full.scene
-    assert np.min(wall_gaps(full.reduced.chain, sol.bar_angles, scene.walls)) > -1e-9
+    assert np.min(wall_gaps(full.chain, sol.bar_angles, scene.walls)) > -1e-9
     (normal, offset), = [w.unit() for w in scene.walls]
     assert np.max(full.nodes(res.x)[1:] @ np.asarray(normal) - offset) < 1e-9
-    lam = full.reduced_multipliers(res)[full.reduced.block("wall")[0].index]
-    assert lam.size == full.n and np.min(lam) > -1e-9 and np.max(lam) > 0  # reduced convention: λ ≥ 0, in contact
+    (wall,) = full.block("wall")
+    lam = full.multipliers(res)[full.blocks.index(wall)]
+    assert lam.size == full.n and np.min(lam) > -1e-9 and np.max(lam) > 0  # one convention: λ ≥ 0, in contact
+    # the same multipliers as the reduced program's (one sign convention in both layouts)
+    reduced = formulate(scene, wall_nodes=None)
+    red = sqp.minimize(**reduced.arguments(), hess=reduced.hess)
+    assert np.allclose(reduced.multipliers(red)[0], lam, rtol=0, atol=1e-6 * np.max(lam))
 
 
 def test_multiplier_maps_round_trip():
-    """``full_multipliers`` (closure multipliers from stationarity in the nodes) inverts ``reduced_multipliers``."""
+    """``multipliers0`` (closure multipliers from stationarity in the nodes) inverts ``multipliers``."""
     for name in ("table1_pi_4", "fig6a"):
         full, res, _, _ = _pair(name, "second_order")
-        back = full.full_multipliers(full.reduced_multipliers(res))
+        back = full.multipliers0(full.blocks, full.multipliers(res))
         scale = np.max(np.abs(res.constraint_multipliers[0]))
         for a, b in zip(back, res.constraint_multipliers, strict=True):
             assert np.allclose(a, b, rtol=0, atol=1e-6 * scale)
@@ -138,43 +156,46 @@ def test_sparse_path_and_solve_full():
     for name, node_tol in (("table1_pi_4", 1e-6), ("fig6a", 2e-4)):
         scene = SCENES[name]
         sol = solve_full(scene, bars=120)
-        ref = solve(scene, bars=120, formulation="reduced")
+        ref = solve(scene, bars=120, layout="reduced")
         assert sol.success and sol.iterations <= 8
         assert sol.energy == pytest.approx(ref.energy, rel=1e-8)
         assert np.max(np.abs(sol.nodes - ref.nodes)) < node_tol
-        assert sol.result.full_x.size == 3 * 120
+        assert sol.layout == "full" and sol.result.x.size == 3 * 120
     full = formulate_full(SCENES["table1_pi_4"], bars=120)
-    res = solve_full(SCENES["table1_pi_4"], bars=120).result
-    z, mu = res.full_x, res.full_constraint_multipliers[0]
+    first = solve_full(SCENES["table1_pi_4"], bars=120)
+    res = first.result
+    z, mu = res.x, res.constraint_multipliers[0]
     W = sp.csc_matrix(full.hess0 - full.constraints[0]["hess"](z, mu))
     # the rows the engine keeps as equalities: the closure and the contact's position rows
     C = sp.vstack([full.constraints[0]["jac"](z), full.constraints[full.block("position")[0].index].A], format="csr")
     B, delta, rho = convexify(W, 0.0, C, 0.0)
     assert sp.issparse(B) and delta == 0.0 and rho > 0.0
-    again = solve_full(SCENES["table1_pi_4"], bars=120, initial_angles=res.x, multipliers0=res.constraint_multipliers)
+    again = solve_full(SCENES["table1_pi_4"], bars=120, initial_angles=first.bar_angles, multipliers0=first)
     assert again.success and again.iterations <= 2
 
 
 def test_solve_routes_large_scenes_to_the_full_space():
-    """``formulation="auto"`` is the full space above FULL_SPACE_BARS bars (exact Hessian), the reduced program
+    """``layout="auto"`` is the full space above FULL_SPACE_BARS bars (exact Hessian), the reduced program
     below and for BFGS; the full-space answer holds every wall at every node and approaches the continuum energy."""
     scene = SCENES["fig6a"]
     sol = solve(scene, bars=400)
     assert sol.success and sol.iterations <= 8
-    assert sol.result.full_x.size == 3 * 400
-    chain = formulate_full(scene, bars=400).reduced.chain
+    assert sol.layout == "full" and sol.result.x.size == 3 * 400
+    chain = formulate_full(scene, bars=400).chain
     assert min(np.min(g) for g in wall_gaps(chain, sol.bar_angles, scene.walls)) > -1e-6
     assert sol.energy == pytest.approx(0.764230, rel=1e-4)  # the continuum energy (guidewire.reference)
-    assert "full_x" not in solve(scene, bars=40).result
-    assert "full_x" in solve(scene, bars=40, formulation="full").result
+    assert solve(scene, bars=40).layout == "reduced"
+    assert solve(scene, bars=40, layout="full").layout == "full"
 
 
-def test_formulation_option_is_validated():
+def test_layout_option_is_validated():
     scene = SCENES["table1_pi_4"]
-    with pytest.raises(ValueError, match="formulation"):
-        solve(scene, formulation="dense")
+    with pytest.raises(ValueError, match="layout"):
+        solve(scene, layout="dense")
+    with pytest.raises(ValueError, match="layout"):
+        formulate(scene, layout="dense")
     with pytest.raises(ValueError, match="hessian='exact'"):
-        solve(scene, formulation="full", hessian="bfgs")
+        solve(scene, layout="full", hessian="bfgs")
 
 
 def test_wire_pushed_head_on_into_a_near_wall():
@@ -184,8 +205,8 @@ def test_wire_pushed_head_on_into_a_near_wall():
     wire = Wire(300.0, 300, moment_of_inertia=0.01816)
     scene = Scene(wire, Base((0.0, 0.0), 0.0), walls=(Wall((1.0, 0.0), 10.0),))
     full = solve(scene)
-    reduced = solve(scene, formulation="reduced")
+    reduced = solve(scene, layout="reduced")
     assert full.success and reduced.success, (full.message, reduced.message)
-    assert "full_x" in full.result
+    assert full.layout == "full"
     assert full.energy == pytest.approx(reduced.energy, rel=1e-8)
     assert np.max(full.nodes[:, 0]) <= 10.0 + 1e-6 and np.max(reduced.nodes[:, 0]) <= 10.0 + 1e-6

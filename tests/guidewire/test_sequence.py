@@ -49,7 +49,7 @@ def test_steady_advance_uses_the_secant_predictor():
 
 
 def test_secant_factor_only_for_parallel_changes():
-    from guidewire.solve import _secant_factor
+    from guidewire.sequence import secant_factor as _secant_factor
 
     a, b, c, _ = _sliding(4)
     assert _secant_factor(a, b, c) == pytest.approx(1.0)

@@ -57,7 +57,11 @@ def test_to_dict_is_json_with_the_required_keys(table2):
     required = {"success", "status", "message", "energy", "nodes", "s", "tangent_angles", "bending_stress_mpa",
                 "contact_reactions", "iterations", "solve_time_s", "max_violation"}
     assert required <= set(data)
-    assert len(data["nodes"]) == 101 and data["contact_reactions"][0]["kind"] == "base"
+    assert len(data["nodes"]) == 101 and data["base_reaction"]["kind"] == "base"
+    assert [r["kind"] for r in data["contact_reactions"]] == ["contact", "contact"]
+    assert data["units"]["length"] == "mm" and data["units"]["force"] == "N"
+    assert data["scene"]["contact"][0]["point"] == [30.0, 20.0] and data["scene"]["wire"]["length"] == 100.0
+    assert data["bars"] == 100 and data["layout"] == "reduced" and data["rounds"] == 1 and data["fallback"] is None
 
 
 def test_iteration_limit_is_a_result_not_an_exception():

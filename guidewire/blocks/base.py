@@ -1,0 +1,182 @@
+"""What every constraint block has in common: its rows as data, its loads on the wire, its violation.
+
+A block is one kind of constraint of a scene (a contact position, a contact angle, a wall, the b₂ bound, …) written
+once as *rows*, in one of two forms that both program layouts know how to state (:mod:`guidewire.formulation` for the
+reduced program in the bar angles ``φ``, :mod:`guidewire.full_space` for angles and node positions):
+
+:class:`NodeRows`
+    ``lb ≤ d_r · p_{k_r} ≤ ub`` — linear in a node position ``p_k`` (mm), one direction ``d_r`` per row. Nonlinear
+    in ``φ`` (``p_k`` is a sum of ``l_j (cos φ_j, sin φ_j)``), linear in the full space.
+:class:`AngleRows`
+    ``lb ≤ A φ ≤ ub`` — linear in the bar angles in both layouts.
+
+Sign convention of the multipliers (the same in both layouts, the one of :func:`sqp.minimize`): at a KKT point
+``∇E = Σ_r λ_r ∇(row_r)``, with ``λ_r ≥ 0`` at an active lower bound and ``λ_r ≤ 0`` at an active upper bound
+(an equality row: any sign). For node rows this makes ``λ_r d_r`` the force (N) the constraint exerts on node
+``k_r`` — by virtual work, ``δE = F · δp``; for angle rows ``λ_r`` is a moment (N·mm) on the bars of the row.
+
+Adding a kind of constraint is one new module with one :class:`Block` subclass (its ``build`` reads the scene and
+returns its blocks, empty when the scene does not need the kind) and one line in ``guidewire.blocks.BLOCK_TYPES``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from ..model import Model
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int_]
+
+
+@dataclass(frozen=True)
+class NodeRows:
+    """Rows ``lb ≤ d_r · p_{k_r} ≤ ub``, linear in node positions.
+
+    Attributes
+    ----------
+    nodes : ndarray of int, shape (m,)
+        Node ``k_r`` of every row (1..n; the base node is fixed and never a row).
+    directions : ndarray, shape (m, 2)
+        ``d_r`` (dimensionless; a unit vector or a coordinate axis).
+    lb, ub : ndarray, shape (m,)
+        Bounds in mm (``-inf``/``inf`` for none; ``lb == ub`` for an equality row).
+    """
+
+    nodes: IntArray
+    directions: FloatArray
+    lb: FloatArray
+    ub: FloatArray
+
+    def values(self, points: FloatArray) -> FloatArray:
+        """``d_r · p_{k_r}`` for node positions ``points`` (shape (n + 1, 2)), shape (m,)."""
+        return np.einsum("ij,ij->i", points[self.nodes], self.directions)
+
+
+@dataclass(frozen=True)
+class AngleRows:
+    """Rows ``lb ≤ A φ ≤ ub``, linear in the bar angles.
+
+    Attributes
+    ----------
+    A : scipy.sparse.csr_matrix, shape (m, n)
+    lb, ub : ndarray, shape (m,)
+        Bounds in rad.
+    """
+
+    A: sp.csr_matrix
+    lb: FloatArray
+    ub: FloatArray
+
+    def values(self, phi: FloatArray) -> FloatArray:
+        """``A φ``, shape (m,)."""
+        return self.A @ phi
+
+
+Rows = NodeRows | AngleRows
+
+
+@dataclass
+class Loads:
+    """Loads the supports exert on the wire, filled by :meth:`Block.add_loads` (N, N·mm, counter-clockwise).
+
+    Attributes
+    ----------
+    forces : dict of int to ndarray, shape (2,)
+        Force of contact ``i`` (by contact index).
+    moments : dict of int to float
+        Moment of contact ``i`` where it is a constraint row (paper scheme).
+    node_forces : ndarray, shape (n + 1, 2)
+        Distributed forces on the nodes that belong to no contact (walls, a lumen).
+    """
+
+    forces: dict[int, FloatArray]
+    moments: dict[int, float]
+    node_forces: FloatArray
+
+    @classmethod
+    def empty(cls, n_bars: int) -> Loads:
+        return cls({}, {}, np.zeros((n_bars + 1, 2)))
+
+
+def row_violation(values: FloatArray, lb: FloatArray, ub: FloatArray) -> FloatArray:
+    """``max(lb − v, v − ub, 0)`` per row."""
+    return np.maximum(np.maximum(lb - values, values - ub), 0.0)
+
+
+@dataclass(frozen=True)
+class Block:
+    """One constraint block: a kind, what it constrains, and its rows (see the module docstring).
+
+    Attributes
+    ----------
+    members : tuple of int
+        What the rows belong to: contact indices (``position``, ``angle``), the wall index (``wall``), the joint
+        nodes (``relative_angle``).
+    nodes : ndarray of int, shape (rows,)
+        The node of every row.
+    index : int
+        Position of the block's constraint in ``Formulation.constraints`` (set by the formulation; -1 before).
+    """
+
+    kind: ClassVar[str] = ""
+    members: tuple[int, ...]
+    nodes: IntArray
+    index: int = field(default=-1, compare=False)
+
+    # -- what every kind provides ------------------------------------------------------------------------------
+    @classmethod
+    def build(cls, model: Model, working_set: Any = None) -> list[Block]:
+        """The blocks of this kind ``model.scene`` needs (none when it needs none).
+
+        ``working_set`` is None (every node), ``"near"`` (kinds with a node working set: the start's nodes near the
+        constraint) or a mapping from :attr:`key` to the nodes to constrain.
+        """
+        raise NotImplementedError
+
+    def rows(self, model: Model) -> Rows:
+        """The rows, in the form both layouts state."""
+        raise NotImplementedError
+
+    def add_loads(self, model: Model, lam: FloatArray, loads: Loads) -> None:
+        """Add what the multipliers ``lam`` of this block exert on the wire to ``loads`` (default: nothing)."""
+
+    # -- shared ---------------------------------------------------------------------------------------------------
+    @property
+    def key(self) -> tuple[str, tuple[int, ...]]:
+        """Identifies the block across formulations of the same scene (kind and members)."""
+        return (self.kind, self.members)
+
+    @property
+    def size(self) -> int:
+        """Number of rows."""
+        return int(self.nodes.size)
+
+    @property
+    def row_keys(self) -> IntArray:
+        """Identifies each row within the block across formulations of the same scene (default: its node), for
+        carrying multipliers over from a neighbouring solve."""
+        return self.nodes
+
+    def violation(self, model: Model, phi: FloatArray, points: FloatArray | None = None) -> FloatArray:
+        """Violation (mm or rad, ≥ 0) of every row at the bar angles ``phi`` (node positions ``points`` when given,
+        else ``model.chain.nodes(phi)``)."""
+        rows = self.rows(model)
+        if isinstance(rows, NodeRows):
+            values = rows.values(model.chain.nodes(phi) if points is None else points)
+        else:
+            values = rows.values(phi)
+        return row_violation(values, rows.lb, rows.ub)
+
+    def grow(self, model: Model, phi: FloatArray, tolerance: float) -> Block | None:
+        """A block with more rows when the working set misses a violated row at ``phi`` (default: never)."""
+        return None
+
+    def with_index(self, index: int) -> Block:
+        return replace(self, index=index)

@@ -110,7 +110,7 @@ def _solve(args: argparse.Namespace) -> int:
 
         reference = None
         if args.reference:
-            from .reproduction import continuum_reference
+            from .reference import continuum_reference
 
             reference, _ = continuum_reference(sol.scene)
         args.plot.parent.mkdir(parents=True, exist_ok=True)

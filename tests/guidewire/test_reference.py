@@ -446,19 +446,21 @@ def test_evaluation_shapes_and_range():
 
 
 @pytest.mark.parametrize(
-    ("kwargs", "field"),
+    ("kwargs", "error", "field"),
     [
-        ({"EI": -1.0}, "EI"),
-        ({"length": 0.0}, "length"),
-        ({"p0": (1.0, 2.0, 3.0)}, "p0"),
-        ({"theta1": float("nan")}, "theta1"),
-        ({"p1": "x"}, "p1"),
+        ({"EI": -1.0}, ValueError, "EI"),
+        ({"length": 0.0}, ValueError, "length"),
+        ({"p0": (1.0, 2.0, 3.0)}, ValueError, "p0"),
+        ({"theta1": float("nan")}, ValueError, "theta1"),
+        ({"p1": "x"}, TypeError, "p1"),  # wrong type: guidewire.fields' TypeError
+        ({"theta0": "0.5"}, TypeError, "theta0"),
+        ({"length": True}, TypeError, "length"),
     ],
 )
-def test_bad_segment_input_names_the_field(kwargs, field):
+def test_bad_segment_input_names_the_field(kwargs, error, field):
     args = {"p0": (0.0, 0.0), "theta0": 0.0, "p1": (60.0, 40.0), "theta1": 0.5, "length": 100.0, "EI": EI}
     args.update(kwargs)
-    with pytest.raises(ValueError, match=field):
+    with pytest.raises(error, match=field):
         clamped_segment(**args)
 
 

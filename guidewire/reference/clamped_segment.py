@@ -37,6 +37,7 @@ _BC_JAC_B[3, 0] = _BC_JAC_B[4, 1] = _BC_JAC_B[5, 2] = 1.0
 
 
 def _bvp(theta0: float, theta1: float, X1: float, Y1: float, u: Array, theta: Array, g: Array) -> Any:
+    """``solve_bvp`` (``tol = 1e-6``) from the angle profile ``theta`` on the mesh ``u`` and the force guess ``g``."""
     c, s = np.cos(theta), np.sin(theta)
     du = np.diff(u)
     X = np.concatenate([[0.0], np.cumsum(0.5 * (c[1:] + c[:-1]) * du)])
@@ -126,12 +127,14 @@ def _shoot(
 
 
 def _q(res: Any) -> Array:
+    """The unknowns ``(κ̂(0), g_x, g_y)`` that tell two ``solve_bvp`` branches apart."""
     return np.array([res.y[3, 0], res.p[0], res.p[1]])
 
 
 def _validate_segment(
     p0: ArrayLike, theta0: Any, p1: ArrayLike, theta1: Any, length: Any, EI: Any
 ) -> tuple[Array, float, Array, float, float, float]:
+    """The clamped-segment arguments validated and converted (points as arrays, the rest as floats)."""
     return (
         np.asarray(fields.point(p0, "p0")),
         fields.real(theta0, "theta0"),

@@ -47,6 +47,7 @@ def rhs_sens(_u: float, w: Array, gx: float, gy: float) -> Array:
     return out
 
 
+#: Initial sensitivities for :func:`rhs_sens`: identity in ``(X, Y, θ, κ̂)``, zero in ``g``, flattened ``(4, 6)``.
 SENS0 = np.hstack([np.eye(4), np.zeros((4, 2))]).ravel()
 
 
@@ -86,11 +87,13 @@ def integrate(theta0: float, kappa_hat0: float, g: Array) -> Any:
 
 
 def bvp_fun(_u: Array, y: Array, p: Array) -> Array:
+    """Vectorised ``(X, Y, θ, κ̂)`` right-hand side for ``solve_bvp``, the unknown parameters ``p = g``."""
     c, s = np.cos(y[2]), np.sin(y[2])
     return np.vstack([c, s, y[3], p[0] * s - p[1] * c])
 
 
 def bvp_fun_jac(_u: Array, y: Array, p: Array) -> tuple[Array, Array]:
+    """Jacobians of :func:`bvp_fun` with respect to the state, shape ``(4, 4, m)``, and to ``p``, ``(4, 2, m)``."""
     c, s = np.cos(y[2]), np.sin(y[2])
     m = y.shape[1]
     dy = np.zeros((4, 4, m))

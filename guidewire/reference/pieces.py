@@ -52,6 +52,7 @@ def curved_piece(
 
 
 def straight_piece(s0: float, length: float, point: Array, theta: float) -> ElasticaPiece:
+    """An unloaded straight piece from ``point`` in the direction ``theta`` (evaluated in closed form)."""
     return ElasticaPiece(
         s0=s0,
         length=length,

@@ -147,6 +147,7 @@ def fallback_guesses(theta0: float, theta1: float, u: Array) -> list[Array]:
 
 
 def _distinct(profiles: Sequence[Array]) -> list[Array]:
+    """The profiles, dropping any within 1e-3 rad everywhere of an earlier one."""
     distinct: list[Array] = []
     for th in profiles:
         if all(np.max(np.abs(th - d)) > 1e-3 for d in distinct):

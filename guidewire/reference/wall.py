@@ -71,6 +71,7 @@ def _wall_parameters(
 
 
 def unit_wall(normal: ArrayLike, offset: Any, name: str = "wall") -> tuple[Array, float]:
+    """The wall ``normal · p ≤ offset`` as ``(unit normal, offset / |normal|)``; ``name`` labels messages."""
     n = np.asarray(fields.point(normal, f"{name} normal"))
     norm = float(np.linalg.norm(n))
     if norm == 0.0:
@@ -79,6 +80,7 @@ def unit_wall(normal: ArrayLike, offset: Any, name: str = "wall") -> tuple[Array
 
 
 def max_wall_violation(shape: ContinuumShape, n: Array, c: float, samples: int = 4001) -> float:
+    """Largest ``n · p - c`` (mm) over ``samples`` evenly spaced points and the piece boundaries."""
     s = np.unique(np.concatenate([np.linspace(0.0, shape.length, samples), shape.breakpoints]))
     return float(np.max(shape.position(s) @ n - c))
 

@@ -38,6 +38,7 @@ def _field(item: Any, index: int, name: str) -> Any:
 
 
 def _contacts(contacts: Iterable[Any], total_length: float) -> list[tuple[float, Array, float]]:
+    """Validated ``(s, point, angle)`` of fully clamped contacts, in strictly increasing ``s ≤ total_length``."""
     out: list[tuple[float, Array, float]] = []
     for i, item in enumerate(contacts):
         label = f"contacts[{i}]"

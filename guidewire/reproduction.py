@@ -2,7 +2,9 @@
 figures (one per figure of the paper) and a Markdown + CSV table.
 
 Used by ``python -m guidewire paper --out DIR``. An infeasible scene (Table 5 as printed) becomes a table row and a
-figure panel carrying the reason, not an exception.
+figure panel carrying the reason, not an exception. The continuum shapes of a scene and the node error (Eq. 25) come
+from :mod:`guidewire.reference` (:func:`~guidewire.reference.continuum_reference`,
+:func:`~guidewire.reference.node_errors`).
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from .paper import paper_groups
-from .reference import continuum_reference, nearest_shape, node_errors
+from .reference import ContinuumReference, ContinuumShape, continuum_reference, nearest_shape, node_errors
 from .result import Solution
 from .scene import SCHEMES, Scene
 from .solve import solve
@@ -53,7 +55,7 @@ class Row:
     note: str = ""
 
 
-def _row(group: str, scene: Scene, sol: Solution, reference: Any, note: str) -> Row:
+def _row(group: str, scene: Scene, sol: Solution, reference: ContinuumReference | None, note: str) -> Row:
     errors = node_errors(sol, reference) if reference is not None else None
     return Row(
         group=group, scene=scene.name, scheme=sol.scheme, bars=sol.n_bars,
@@ -110,7 +112,7 @@ def reproduce(out: str | Path, *, qp_solver: str | None = None, figures: bool = 
     rows: list[Row] = []
     for group, scenes in paper_groups().items():
         panels = []
-        by_scheme: dict[str, list[tuple[Solution, Any]]] = {scheme: [] for scheme in SCHEMES}
+        by_scheme: dict[str, list[tuple[Solution, ContinuumShape | None]]] = {scheme: [] for scheme in SCHEMES}
         for scene in scenes:
             reason = scene.infeasibility()
             if reason is not None:

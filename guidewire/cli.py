@@ -1,19 +1,27 @@
 """Command line: ``python -m guidewire solve SCENE.toml`` and ``python -m guidewire paper --out DIR``.
 
 Exit status: 0 success; 1 the solver did not converge (the JSON is still written; its ``status``/``message`` say
-why) or, for ``paper``, some feasible scene did not converge; 2 bad input (one line on stderr, no traceback).
+why) or, for ``paper``, some feasible scene did not converge; 2 bad input (one line on stderr, no traceback), checked
+before any solve (including a ``--plot`` file type matplotlib cannot write and an unknown ``--qp-solver``).
+
+When stdout is a pipe that closes early (``python -m guidewire solve SCENE | head -1``) the run ends quietly, as the
+Python documentation recommends (stdout redirected to ``os.devnull``): the exit status is the command's when it had
+finished, else 1.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, NoReturn
 
 import numpy as np
+
+from sqp import installed_solvers
 
 from .scene import SCHEMES
 from .scene_file import load_scene
@@ -43,6 +51,43 @@ def _positive_int(text: str) -> int:
     return value
 
 
+AUTO_QP_SOLVER = "auto"
+"""``--qp-solver`` value that lets the engine choose the QP backend by size and sparsity."""
+
+QP_SOLVER_HELP = (
+    "QP backend: 'auto' (default) picks DAQP up to 300 variables, PIQP for larger programs whose rows are all "
+    "sparse, Clarabel for larger programs with dense rows; or an installed qpsolvers backend: {}"
+)
+
+
+def _figure_path(text: str) -> Path:
+    """``--plot``'s file, refused (before any solve) unless matplotlib is installed and writes its file type."""
+    path = Path(text)
+    try:
+        from matplotlib.backend_bases import FigureCanvasBase
+    except ImportError:
+        message = "writing a figure needs matplotlib: pip install 'guidewire-sqp[plot]'"
+        raise argparse.ArgumentTypeError(message) from None
+    formats = FigureCanvasBase.get_supported_filetypes()
+    suffix = path.suffix.lower().removeprefix(".")
+    if suffix not in formats:
+        kind = f"file type {path.suffix!r}" if path.suffix else "no file extension"
+        raise argparse.ArgumentTypeError(
+            f"{text!r} has {kind}; matplotlib writes {', '.join('.' + f for f in sorted(formats))}")
+    return path
+
+
+def _qp_solver(args: argparse.Namespace) -> str | None:
+    """The ``qp_solver`` for :func:`guidewire.solve`: ``None`` (its automatic choice) for ``auto``."""
+    return None if args.qp_solver == AUTO_QP_SOLVER else args.qp_solver
+
+
+def _add_qp_solver(parser: argparse.ArgumentParser) -> None:
+    choices = [AUTO_QP_SOLVER, *installed_solvers()]
+    parser.add_argument("--qp-solver", choices=choices, default=AUTO_QP_SOLVER, metavar="NAME",
+                        help=QP_SOLVER_HELP.format(", ".join(choices[1:])))
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``python -m guidewire``."""
     parser = _Parser(prog="guidewire", description="Bar-chain guidewire deformation by SQP (Li et al. 2019).")
@@ -50,17 +95,18 @@ def build_parser() -> argparse.ArgumentParser:
     run = sub.add_parser("solve", help="solve one scene file")
     run.add_argument("scene", type=Path, help="scene file (TOML)")
     run.add_argument("--json", type=Path, help="write the solution as JSON")
-    run.add_argument("--plot", type=Path, help="write a figure (PNG, PDF, SVG)")
+    run.add_argument("--plot", type=_figure_path, help="write a figure (.png, .pdf, .svg, ...: the file type "
+                     "from the extension; needs matplotlib)")
     run.add_argument("--bars", type=_positive_int, help="number of bars (default: the file's)")
     run.add_argument("--scheme", choices=SCHEMES, help="energy discretisation (default: the file's)")
-    run.add_argument("--qp-solver", default=None, help="qpsolvers backend (default: daqp to 300 bars, else clarabel)")
+    _add_qp_solver(run)
     run.add_argument("--max-iter", type=_positive_int, default=500, help="SQP iteration limit")
     run.add_argument("--tol", type=float, default=1e-8, help="SQP tolerance")
     run.add_argument("--reference", action="store_true", help="overlay the continuum reference in --plot")
     run.add_argument("--verbose", action="store_true", help="print the SQP iteration table")
     paper = sub.add_parser("paper", help="reproduce every scene of the paper (figures + table)")
     paper.add_argument("--out", type=Path, required=True, help="output directory")
-    paper.add_argument("--qp-solver", default=None, help="qpsolvers backend (default by size)")
+    _add_qp_solver(paper)
     paper.add_argument("--no-figures", action="store_true", help="tables only")
     return parser
 
@@ -97,7 +143,7 @@ def _solve(args: argparse.Namespace) -> int:
     except ValueError as exc:  # the message already names the file and the field
         raise BadInput(str(exc)) from None
     try:
-        sol = solve(scene, scheme=args.scheme, bars=args.bars, qp_solver=args.qp_solver, tol=args.tol,
+        sol = solve(scene, scheme=args.scheme, bars=args.bars, qp_solver=_qp_solver(args), tol=args.tol,
                     max_iter=args.max_iter, verbose=args.verbose)
     except (ValueError, TypeError) as exc:
         raise BadInput(f"{args.scene}: {exc}") from None
@@ -105,14 +151,20 @@ def _solve(args: argparse.Namespace) -> int:
     if args.json is not None:
         args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps(sol.to_dict(), indent=1))
+    if args.reference and args.plot is None:
+        print("note: --reference only draws into --plot's figure; no figure was asked for", file=sys.stderr)
     if args.plot is not None:
         from .plot import plot_solution
 
         reference = None
         if args.reference:
-            from .reproduction import continuum_reference
+            from .reference import continuum_reference
 
-            reference, _ = continuum_reference(sol.scene)
+            reference, why = continuum_reference(sol.scene)
+            if reference is None:
+                reason = why.removeprefix("no reference: ")
+                print(f"note: --reference: no continuum reference drawn for scene {sol.scene.name!r}: {reason}",
+                      file=sys.stderr)
         args.plot.parent.mkdir(parents=True, exist_ok=True)
         plot_solution(sol, reference=reference).savefig(args.plot, dpi=130)
     return EXIT_OK if sol.success else EXIT_NOT_CONVERGED
@@ -121,17 +173,33 @@ def _solve(args: argparse.Namespace) -> int:
 def _paper(args: argparse.Namespace) -> int:
     from .reproduction import failures, reproduce
 
-    rows = reproduce(args.out, qp_solver=args.qp_solver, figures=not args.no_figures)
+    rows = reproduce(args.out, qp_solver=_qp_solver(args), figures=not args.no_figures)
     print(f"wrote {args.out / 'paper_results.md'} and {args.out / 'paper_results.csv'}"
           + ("" if args.no_figures else " and figures fig4/fig5/fig6/fig13.png"))
     return EXIT_NOT_CONVERGED if failures(rows) else EXIT_OK
 
 
-def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status."""
+def _run(argv: Sequence[str] | None) -> int:
     try:
         args = build_parser().parse_args(argv)
         return _solve(args) if args.command == "solve" else _paper(args)
     except BadInput as exc:
         print("error: " + " ".join(str(exc).split()), file=sys.stderr)
         return EXIT_BAD_INPUT
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit status.
+
+    A closed stdout pipe ends the run quietly (the recipe of the Python documentation, "Note on SIGPIPE"): stdout
+    is pointed at ``os.devnull`` so that the interpreter's final flush does not fail again. The status is the
+    command's when it had finished, else :data:`EXIT_NOT_CONVERGED` (Python's own status on EPIPE).
+    """
+    status = EXIT_NOT_CONVERGED
+    try:
+        status = _run(argv)
+        sys.stdout.flush()  # a closed pipe shows here rather than as "Exception ignored" at exit
+    except BrokenPipeError:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    return status

@@ -2,7 +2,9 @@
 figures (one per figure of the paper) and a Markdown + CSV table.
 
 Used by ``python -m guidewire paper --out DIR``. An infeasible scene (Table 5 as printed) becomes a table row and a
-figure panel carrying the reason, not an exception.
+figure panel carrying the reason, not an exception. The continuum shapes of a scene and the node error (Eq. 25) come
+from :mod:`guidewire.reference` (:func:`~guidewire.reference.continuum_reference`,
+:func:`~guidewire.reference.node_errors`).
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ import numpy as np
 
 from .feasibility import infeasibility
 from .paper import paper_groups
+from .reference import ContinuumReference, ContinuumShape, continuum_reference, nearest_shape, node_errors
 from .result import Solution
 from .scene import SCHEMES, Scene
 from .solve import solve
@@ -53,50 +56,7 @@ class Row:
     note: str = ""
 
 
-@dataclass(frozen=True)
-class ContinuumReference:
-    """The exact continuum shapes of a scene that share the lowest energy (mirror twins of a symmetric scene, e.g.
-    Table 1 with θ_B = 0 or Fig. 6b bending up or down); behaves like the first one."""
-
-    shapes: tuple[Any, ...]
-
-    @property
-    def energy(self) -> float:
-        return float(self.shapes[0].energy)
-
-    def position(self, s: Any) -> np.ndarray:
-        return self.shapes[0].position(s)
-
-
-def continuum_reference(scene: Scene) -> tuple[ContinuumReference | None, str]:
-    """The exact continuum shape(s) of ``scene`` from :mod:`guidewire.reference`, or ``(None, why not)``."""
-    try:
-        from .reference import reference_shapes
-    except ImportError as exc:  # the reference module is optional for this command
-        return None, f"no reference: {exc}"
-    try:
-        shapes = reference_shapes(
-            scene.base.point, scene.base.angle, scene.contacts, scene.wire.length, scene.wire.bending_stiffness,
-            scene.walls,
-        )
-    except (NotImplementedError, ValueError) as exc:
-        return None, f"no reference: {exc}"
-    return ContinuumReference(tuple(shapes)), ""
-
-
-def nearest_shape(solution: Solution, reference: Any) -> Any:
-    """Of the equal-lowest-energy continuum shapes, the one nearest to ``solution`` (mean node distance)."""
-    shapes = reference.shapes if isinstance(reference, ContinuumReference) else (reference,)
-    return min(shapes, key=lambda shape: float(np.mean(np.hypot(*(solution.nodes - shape.position(solution.s)).T))))
-
-
-def node_errors(solution: Solution, reference: Any) -> np.ndarray:
-    """Distance (mm) of every node from the continuum point at the same arc length (the paper's Eq. 25), against
-    the nearest of the equal-lowest-energy continuum shapes."""
-    return np.hypot(*(solution.nodes - nearest_shape(solution, reference).position(solution.s)).T)
-
-
-def _row(group: str, scene: Scene, sol: Solution, reference: Any, note: str) -> Row:
+def _row(group: str, scene: Scene, sol: Solution, reference: ContinuumReference | None, note: str) -> Row:
     errors = node_errors(sol, reference) if reference is not None else None
     return Row(
         group=group, scene=scene.name, scheme=sol.scheme, bars=sol.n_bars,
@@ -153,7 +113,7 @@ def reproduce(out: str | Path, *, qp_solver: str | None = None, figures: bool = 
     rows: list[Row] = []
     for group, scenes in paper_groups().items():
         panels = []
-        by_scheme: dict[str, list[tuple[Solution, Any]]] = {scheme: [] for scheme in SCHEMES}
+        by_scheme: dict[str, list[tuple[Solution, ContinuumShape | None]]] = {scheme: [] for scheme in SCHEMES}
         for scene in scenes:
             reason = infeasibility(scene)
             if reason is not None:
@@ -195,4 +155,4 @@ def failures(rows: Sequence[Row]) -> list[Row]:
     return [r for r in rows if r.status not in ("converged", "infeasible")]
 
 
-__all__ = ["Row", "continuum_reference", "failures", "nearest_shape", "node_errors", "reproduce", "write_tables"]
+__all__ = ["Row", "failures", "reproduce", "write_tables"]

@@ -13,11 +13,17 @@ import pytest
 from scipy.integrate import quad, solve_bvp
 from scipy.special import ellipe, ellipk
 
+from guidewire import Base, Contact, Scene, Wire, paper_scenes, solve
 from guidewire.reference import (
+    ContinuumReaction,
+    ContinuumReference,
     ContinuumShape,
     clamp_wall_free_end,
     clamped_segment,
     clamped_segment_equilibria,
+    continuum_reference,
+    nearest_shape,
+    node_errors,
     reference_shape,
     reference_shapes,
 )
@@ -446,19 +452,21 @@ def test_evaluation_shapes_and_range():
 
 
 @pytest.mark.parametrize(
-    ("kwargs", "field"),
+    ("kwargs", "error", "field"),
     [
-        ({"EI": -1.0}, "EI"),
-        ({"length": 0.0}, "length"),
-        ({"p0": (1.0, 2.0, 3.0)}, "p0"),
-        ({"theta1": float("nan")}, "theta1"),
-        ({"p1": "x"}, "p1"),
+        ({"EI": -1.0}, ValueError, "EI"),
+        ({"length": 0.0}, ValueError, "length"),
+        ({"p0": (1.0, 2.0, 3.0)}, ValueError, "p0"),
+        ({"theta1": float("nan")}, ValueError, "theta1"),
+        ({"p1": "x"}, TypeError, "p1"),  # wrong type: guidewire.fields' TypeError
+        ({"theta0": "0.5"}, TypeError, "theta0"),
+        ({"length": True}, TypeError, "length"),
     ],
 )
-def test_bad_segment_input_names_the_field(kwargs, field):
+def test_bad_segment_input_names_the_field(kwargs, error, field):
     args = {"p0": (0.0, 0.0), "theta0": 0.0, "p1": (60.0, 40.0), "theta1": 0.5, "length": 100.0, "EI": EI}
     args.update(kwargs)
-    with pytest.raises(ValueError, match=field):
+    with pytest.raises(error, match=field):
         clamped_segment(**args)
 
 
@@ -487,3 +495,44 @@ def test_bad_contacts_raise_value_error():
         clamp_wall_free_end((50.0, 0.0), 0.0, 100.0, (1.0, 0.0), 45.0, EI)
     with pytest.raises(ValueError, match="base_point lies beyond"):
         reference_shape((50.0, 0.0), 0.0, [], 100.0, EI, walls=[((1.0, 0.0), 45.0)])
+
+
+# ----------------------------------------------------------------------------------------------------
+# a Scene's reference and the paper's node error (Eq. 25)
+# ----------------------------------------------------------------------------------------------------
+
+
+def test_scene_reference_and_node_errors_of_table1():
+    scene = paper_scenes()["table1_pi_4"]
+    reference, why = continuum_reference(scene)
+    assert why == "" and isinstance(reference, ContinuumReference) and len(reference.shapes) == 1
+    shape = reference.shapes[0]
+    assert reference.energy == shape.energy == pytest.approx(4.5551, abs=1e-3)
+    assert all(isinstance(r, ContinuumReaction) for r in shape.reactions)
+    assert [r.kind for r in shape.reactions] == ["clamp", "clamp"]
+    sol = solve(scene)
+    errors = node_errors(sol, reference)
+    assert errors.shape == (sol.n_bars + 1,)
+    assert errors[0] < 1e-9 and errors[-1] < 1e-6  # both ends are clamped
+    assert 0.0 < errors.mean() < 0.01  # second order at n = 100: ~0.003 mm (README)
+    assert nearest_shape(sol, reference) is shape
+    np.testing.assert_array_equal(node_errors(sol, shape), errors)
+
+
+def test_node_errors_use_the_nearest_mirror_twin():
+    scene = paper_scenes()["fig6b"]  # the wire bends up or down against the wall x ≤ 45, equal energy
+    reference, _ = continuum_reference(scene)
+    assert len(reference.shapes) == 2
+    assert reference.shapes[0].energy == pytest.approx(reference.shapes[1].energy, rel=1e-12)
+    sol = solve(scene)
+    near = nearest_shape(sol, reference)
+    far = next(shape for shape in reference.shapes if shape is not near)
+    assert node_errors(sol, reference).mean() < 0.05 < node_errors(sol, far).mean()
+
+
+def test_scene_reference_says_why_not():
+    reference, why = continuum_reference(paper_scenes()["table5"])
+    assert reference is None and why.startswith("no reference: ") and "22.80 mm apart" in why
+    position_only = Scene(Wire(100.0, 20), Base((0.0, 0.0), 0.0), (Contact(100.0, (60.0, 40.0)),))
+    reference, why = continuum_reference(position_only)
+    assert reference is None and "has no angle" in why and "fully clamped" in why

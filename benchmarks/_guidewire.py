@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 from _peers import hessian_note, peer_runners
 from _problems import Problem, max_violation
+from _timing import measure
 
 import guidewire
 import sqp
@@ -113,6 +114,13 @@ def ours_variants(backends: bool = True) -> dict[str, Callable[[Case], dict[str,
 def peer_variants(names: Sequence[str] = ("SLSQP", "trust-constr", "IPOPT")) -> dict[str, Callable[[Case], Any]]:
     """The installed peers of :mod:`_peers` among ``names``, called on a case's program."""
     return {name: (lambda c, r=run: r(c.problem)) for name, run in peer_runners(names).items()}
+
+
+def warm_up(solvers: dict[str, Callable[[Case], Any]], limit: float | None) -> None:
+    """Run every solver once on Table 1 (θ_B = π/4) at 10 bars, untimed: first calls load libraries."""
+    warm = make_case(guidewire.paper_scenes()["table1_pi_4"], bars=10)
+    for run in solvers.values():
+        measure(run, warm, 1, limit)
 
 
 def peer_hessian_note(case: Case) -> str:

@@ -145,6 +145,17 @@ class Budget:
                 return self.stopped[(solver, key)]
         return None
 
+    def measure(self, solver: str, key: str, n: int, run: Callable[[Any], dict[str, Any]], problem: Any,
+                repeats: int, group: str = "") -> dict[str, Any]:
+        """:func:`measure` ``run(problem)`` with :attr:`limit` and :meth:`record` it, or :func:`skipped` with the
+        reason when :meth:`reason_to_skip` gives one."""
+        skip = self.reason_to_skip(solver, key, n, group)
+        if skip is not None:
+            return skipped(skip)
+        result = measure(run, problem, repeats, self.limit)
+        self.record(solver, key, n, result, group)
+        return result
+
     def record(self, solver: str, key: str, n: int, result: dict[str, Any], group: str = "") -> None:
         """Account for one measured result."""
         if result["outcome"] == "timeout":

@@ -73,20 +73,14 @@ def scaled_table1(length: float) -> guidewire.Scene:
 
 
 def solve_all(sweep: str, scene: guidewire.Scene, bars: int, solvers: dict[str, Any], budget: _timing.Budget,
-              repeats: int, limit: float) -> list[dict[str, Any]]:
-    """Every scheme × solver on one scene at ``bars`` bars; one row each."""
+              repeats: int) -> list[dict[str, Any]]:
+    """Every scheme × solver on one scene at ``bars`` bars (time limit: the budget's); one row each."""
     ref, note = G.reference(scene)
     rows = []
     for scheme in SCHEMES:
         case = G.make_case(scene, bars=bars, scheme=scheme)
         for name, run in solvers.items():
-            key = f"{sweep} {scheme}"
-            skip = budget.reason_to_skip(name, key, bars)
-            if skip is not None:
-                res = _timing.skipped(skip)
-            else:
-                res = _timing.measure(run, case, repeats, limit)
-                budget.record(name, key, bars, res)
+            res = budget.measure(name, f"{sweep} {scheme}", bars, run, case, repeats)
             ev = G.evaluate(case, res.get("x"), ref)
             ref_energy = float(ref.energy) if ref is not None else math.nan
             feasible = ev["max_violation"] <= G.FEASIBILITY_TOL
@@ -134,11 +128,9 @@ def main() -> None:
     budget = _timing.Budget(limit, a.budget)
     start = time.perf_counter()
     with E.one_thread():
-        warm = G.make_case(table1(), bars=10)
-        for run in solvers.values():  # first calls load libraries; not timed
-            _timing.measure(run, warm, 1, limit)
+        G.warm_up(solvers, limit)
         for sweep, scene, bars in E.progress(jobs, desc="sweep points"):
-            rows += solve_all(sweep, scene, bars, solvers, budget, repeats, limit)
+            rows += solve_all(sweep, scene, bars, solvers, budget, repeats)
     print(f"total {time.perf_counter() - start:.0f} s")
     write(rows, list(solvers), a.out, env, settings, hessian_note, quick=a.quick)
 

@@ -79,16 +79,12 @@ def run_case(case: G.Case, solvers: dict[str, Any], budget: _timing.Budget | Non
     out: dict[str, dict[str, Any]] = {}
     for name, run in solvers.items():
         group = "wall scenes" if is_wall_scene(case.scene) else "contact scenes"
-        skip = budget.reason_to_skip(name, case.scene.name, case.n, group) if budget else None
         if name.startswith("ours[") and case.n > VARIANT_MAX_BARS:
-            skip = f"skipped: the variants of ours are measured up to n = {VARIANT_MAX_BARS}"
-        if skip is not None:
-            out[name] = _timing.skipped(skip)
-            continue
-        res = _timing.measure(run, case, repeats, limit)
-        if budget:
-            budget.record(name, case.scene.name, case.n, res, group)
-        out[name] = res
+            out[name] = _timing.skipped(f"skipped: the variants of ours are measured up to n = {VARIANT_MAX_BARS}")
+        elif budget is None:
+            out[name] = _timing.measure(run, case, repeats, limit)
+        else:
+            out[name] = budget.measure(name, case.scene.name, case.n, run, case, repeats, group)
     return out
 
 
@@ -225,9 +221,7 @@ def main() -> None:
     budget = _timing.Budget(limit, a.budget)
     start = time.perf_counter()
     with E.one_thread():
-        warm = G.make_case(guidewire.paper_scenes()["table1_pi_4"], bars=10)
-        for run in solvers.values():  # first calls load libraries; not timed
-            _timing.measure(run, warm, 1, limit)
+        G.warm_up(solvers, limit)
         jobs = [(scene, n) for n in bars for scene in scene_list]
         straight: dict[tuple[str, int], tuple[G.Case, dict[str, Any]]] = {}
         for scene, n in E.progress(jobs, desc="scene × n"):

@@ -10,7 +10,7 @@ EI), n = L bars, L from 25 to 800 mm. The continuum shape scales with c, so at a
 resolution grows with L: the node error goes like c·(1/n)^p = L^(1−p) for a scheme of order p, the energy like 1/c.
 
 Both energy schemes ("paper": the paper's Eq. 15; "second_order") are solved by ``ours`` (:func:`guidewire.solve`,
-defaults), ``ours[bfgs]`` (the paper's damped BFGS, when the ``hessian`` option exists) and the peers of
+defaults), ``ours[bfgs]`` (the paper's damped BFGS) and the peers of
 :mod:`_peers` (scipy SLSQP, scipy trust-constr, IPOPT when installed), all from the formulation's start with the same
 analytic derivatives. Per solve: time (median of ``--repeats``, one run once a solve takes > 1 s), iterations,
 function evaluations, energy (and its relative difference to the continuum energy), largest constraint violation,

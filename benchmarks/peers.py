@@ -4,9 +4,9 @@ What is measured
 ----------------
 Every feasible paper scene (Tables 1 and 2 at all five angles, Fig. 6a, Fig. 6b, Table 4; Table 5 as printed is
 infeasible and left out) in its default (second-order) scheme at n ∈ {25, 50, 100, 200, 400, 800, 1600} bars, solved
-by ``ours`` (:func:`guidewire.solve` with its defaults), ``ours[bfgs]`` (the paper's damped BFGS, when the
-``hessian`` option exists), ``ours[<backend>]`` for every installed qpsolvers backend, and the peers of
-:mod:`_peers`: scipy SLSQP, scipy trust-constr and IPOPT (cyipopt; left out when not installed). Every solver starts
+by ``ours`` (:func:`guidewire.solve` with its defaults), ``ours[bfgs]`` (the paper's damped BFGS), ``ours[<backend>]``
+for every installed qpsolvers backend, and the peers of :mod:`_peers`: scipy SLSQP, scipy trust-constr and IPOPT
+(cyipopt; left out when not installed). Every solver starts
 from the formulation's ``x0`` (the elastica-like start) with the same analytic derivatives; trust-constr and IPOPT get
 the exact Hessians when the formulation offers them. One more row group starts everyone from the straight wire (all
 angles 0) at one n, to show who fails from there.
@@ -65,7 +65,7 @@ def scenes(quick: bool, pattern: str) -> list[guidewire.Scene]:
     out = [s for s in guidewire.paper_scenes().values() if G.feasible(s)]
     if quick:
         out = [s for s in out if s.name in QUICK_SCENES]
-    names = [p for p in pattern.split(",") if p]
+    names = A.names(pattern)
     return [s for s in out if not names or any(p in s.name for p in names)]
 
 

@@ -10,14 +10,14 @@ EI), n = L bars, L from 25 to 800 mm. The continuum shape scales with c, so at a
 resolution grows with L: the node error goes like c·(1/n)^p = L^(1−p) for a scheme of order p, the energy like 1/c.
 
 Both energy schemes ("paper": the paper's Eq. 15; "second_order") are solved by ``ours`` (:func:`guidewire.solve`,
-defaults), ``ours[bfgs]`` (the paper's damped BFGS, when the ``hessian`` option exists) and the peers of
-:mod:`_common` (scipy SLSQP, scipy trust-constr, IPOPT when installed), all from the formulation's start with the same
+defaults), ``ours[bfgs]`` (the paper's damped BFGS) and the peers of
+:mod:`_peers` (scipy SLSQP, scipy trust-constr, IPOPT when installed), all from the formulation's start with the same
 analytic derivatives. Per solve: time (median of ``--repeats``, one run once a solve takes > 1 s), iterations,
 function evaluations, energy (and its relative difference to the continuum energy), largest constraint violation,
 mean and max node error (mm) against the exact continuum elastica at the same arc length (the paper's Eq. 25, via
-:func:`guidewire.reproduction.node_errors`). A solve longer than ``--limit`` s is stopped and that solver is not run
+the continuum reference's ``node_errors``). A solve longer than ``--limit`` s is stopped and that solver is not run
 at larger n in that sweep and scheme; a solve predicted to pass the limit is not started, and a solver that has spent
-``--budget`` s (default 100) of solve time is not started again (``ours`` has no budget; :class:`_common.Budget`);
+``--budget`` s (default 100) of solve time is not started again (``ours`` has no budget; :class:`_timing.Budget`);
 every skip is in the table.
 
 The order p of each scheme is the least-squares slope of log(mean error) against log(n/L) over ours' solves. The
@@ -30,23 +30,19 @@ Writes ``discrete_density.{md,csv,png}`` (``discrete_density_quick.*`` with ``--
 
 from __future__ import annotations
 
-import os
+import math
+import time
+from pathlib import Path
+from typing import Any
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
-os.environ.setdefault("MKL_NUM_THREADS", "1")
+import _arguments as A
+import _environment as E  # first: pins BLAS to one thread before numpy loads
+import _guidewire as G
+import _tables as T
+import _timing
+import numpy as np
 
-import argparse  # noqa: E402
-import math  # noqa: E402
-import time  # noqa: E402
-from pathlib import Path  # noqa: E402
-from typing import Any  # noqa: E402
-
-import _common as C  # noqa: E402
-import numpy as np  # noqa: E402
-from threadpoolctl import threadpool_limits  # noqa: E402
-
-import guidewire  # noqa: E402
+import guidewire
 
 DENSITIES = (0.1, 0.15, 0.2, 0.3, 0.5, 0.7, 1.0, 1.5, 2.0, 3.0, 5.0, 7.0, 10.0)
 QUICK_DENSITIES = (0.1, 0.3, 1.0)
@@ -76,25 +72,18 @@ def scaled_table1(length: float) -> guidewire.Scene:
     )
 
 
-def solve_all(sweep: str, scene: guidewire.Scene, bars: int, solvers: dict[str, Any], budget: C.Budget,
-              repeats: int, limit: float) -> list[dict[str, Any]]:
-    """Every scheme × solver on one scene at ``bars`` bars; one row each."""
-    ref, note = C.reference(scene)
+def solve_all(sweep: str, scene: guidewire.Scene, bars: int, solvers: dict[str, Any], budget: _timing.Budget,
+              repeats: int) -> list[dict[str, Any]]:
+    """Every scheme × solver on one scene at ``bars`` bars (time limit: the budget's); one row each."""
+    ref, note = G.reference(scene)
     rows = []
     for scheme in SCHEMES:
-        case = C.make_case(scene, bars=bars, scheme=scheme)
+        case = G.make_case(scene, bars=bars, scheme=scheme)
         for name, run in solvers.items():
-            key = f"{sweep} {scheme}"
-            skip = budget.reason_to_skip(name, key, bars)
-            if skip is not None:
-                res = {"outcome": "skipped", "time": math.nan, "x": None, "success": False, "message": skip,
-                       "nit": 0, "nfev": 0, "repeats": 0}
-            else:
-                res = C.measure(run, case, repeats, limit)
-                budget.record(name, key, bars, res)
-            ev = C.evaluate(case.form, res.get("x"), ref)
+            res = budget.measure(name, f"{sweep} {scheme}", bars, run, case, repeats)
+            ev = G.evaluate(case, res.get("x"), ref)
             ref_energy = float(ref.energy) if ref is not None else math.nan
-            feasible = ev["max_violation"] <= C.FEASIBILITY_TOL
+            feasible = ev["max_violation"] <= G.FEASIBILITY_TOL
             rows.append({
                 "sweep": sweep, "L_mm": scene.wire.length, "n": bars, "n_per_L": bars / scene.wire.length,
                 "scheme": scheme, "solver": name, "outcome": res["outcome"], "success": bool(res["success"]),
@@ -119,38 +108,29 @@ def fitted_order(rows: list[dict[str, Any]], x_key: str, y_key: str) -> tuple[fl
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="three n/L values, two lengths, one repeat (< 1 minute)")
-    ap.add_argument("--repeats", type=int, default=5, help="timing repeats per solve (median reported)")
-    ap.add_argument("--out", type=Path, default=C.RESULTS)
-    ap.add_argument("--limit", type=float, default=60.0, help="time limit of one solve (s)")
-    ap.add_argument("--budget", type=float, default=100.0, help="solve time (s) per solver for the whole run")
-    a = ap.parse_args()
+    ap = A.parser(__doc__, quick_help="three n/L values, two lengths, one repeat (< 1 minute)", repeats=5,
+                  limit=60.0, budget=100.0, budget_help="solve time (s) per solver for the whole run")
+    a = A.parse(ap)
     densities = QUICK_DENSITIES if a.quick else DENSITIES
     lengths = QUICK_LENGTHS if a.quick else LENGTHS
-    repeats = 1 if a.quick else a.repeats
-    limit = min(a.limit, 20.0) if a.quick else a.limit
-    solvers = {**C.ours_variants(backends=False), **C.peer_variants()}
-    env = C.environment()
+    repeats, limit = a.repeats, a.limit
+    solvers = {**G.ours_variants(backends=False), **G.peer_variants()}
+    env = E.environment()
     settings = (f"n/L ∈ {list(densities)} per mm at L = 100 mm; L ∈ {[int(v) for v in lengths]} mm at n/L = 1; "
-                f"schemes {', '.join(SCHEMES)}; solvers {', '.join(solvers)}; median of {repeats} repeat(s) (one run "
-                f"once a solve takes > {C.SINGLE_RUN_S:g} s; up to {C.FAST_REPEATS} while they take < "
-                f"{C.FAST_TOTAL_S:g} s in all); time limit {limit:g} s per solve, {a.budget:g} s of "
-                "solves per solver")
+                f"schemes {', '.join(SCHEMES)}; solvers {', '.join(solvers)}; {_timing.repeats_note(repeats)}; "
+                f"time limit {limit:g} s per solve, {a.budget:g} s of solves per solver")
     print("\n".join(env + [settings]))
-    hessian_note = C.peer_hessian_note(C.make_case(table1(), bars=20).form)
+    hessian_note = G.peer_hessian_note(G.make_case(table1(), bars=20))
     jobs = [("n/L", table1(), int(round(d * BASE_LENGTH))) for d in densities]
     jobs += [("L at n/L = 1", scaled_table1(length), int(round(length))) for length in lengths]
     jobs.sort(key=lambda job: job[2])  # small n of both sweeps first: a spent budget cuts the largest n
     rows: list[dict[str, Any]] = []
-    budget = C.Budget(limit, a.budget)
+    budget = _timing.Budget(limit, a.budget)
     start = time.perf_counter()
-    with threadpool_limits(limits=1):
-        warm = C.make_case(table1(), bars=10)
-        for run in solvers.values():  # first calls load libraries; not timed
-            C.measure(run, warm, 1, limit)
-        for sweep, scene, bars in C.progress(jobs, desc="sweep points"):
-            rows += solve_all(sweep, scene, bars, solvers, budget, repeats, limit)
+    with E.one_thread():
+        G.warm_up(solvers, limit)
+        for sweep, scene, bars in E.progress(jobs, desc="sweep points"):
+            rows += solve_all(sweep, scene, bars, solvers, budget, repeats)
     print(f"total {time.perf_counter() - start:.0f} s")
     write(rows, list(solvers), a.out, env, settings, hessian_note, quick=a.quick)
 
@@ -175,9 +155,8 @@ def orders(rows: list[dict[str, Any]]) -> dict[str, dict[str, float]]:
 
 def write(rows: list[dict[str, Any]], solvers: list[str], out: Path, env: list[str], settings: str,
           hessian_note: str, *, quick: bool) -> None:
-    out.mkdir(parents=True, exist_ok=True)
-    stem = "discrete_density_quick" if quick else "discrete_density"
-    C.write_csv(rows, out / f"{stem}.csv")
+    stem = T.output_stem(out, "discrete_density", quick)
+    T.write_csv(rows, stem.with_suffix(".csv"))
     fits = orders(rows)
     lines = [
         "# Discrete density (Fig. 10): time and error against the continuum vs n/L, both schemes, ours and peers",
@@ -193,7 +172,7 @@ def write(rows: list[dict[str, Any]], solvers: list[str], out: Path, env: list[s
         "## Fitted orders (ours; least squares of log error on log n/L)",
         "",
     ]
-    lines += C.markdown_table(
+    lines += T.markdown_table(
         ["scheme", "order (mean error)", "order (max error)", "mean error at n/L = 1 (mm)",
          "slope of mean error vs L at n/L = 1"],
         [[s, f["mean"], f["max"], _at(rows, s, 1.0), f["L_slope"]] for s, f in fits.items()],
@@ -208,7 +187,7 @@ def write(rows: list[dict[str, Any]], solvers: list[str], out: Path, env: list[s
         lines += ["", f"## Sweep: {sweep}", ""]
         rs = [r for r in rows if r["sweep"] == sweep]
         rs.sort(key=lambda r: (r["scheme"], solvers.index(r["solver"]), r["n"]))
-        lines += C.markdown_table(
+        lines += T.markdown_table(
             ["scheme", "solver", "L (mm)", "n", "n/L", "time (ms)", "it", "f-evals", "energy (N·mm)",
              "vs continuum", "mean error (mm)", "max error (mm)", "max violation", "status"],
             [[r["scheme"], r["solver"], r["L_mm"], r["n"], r["n_per_L"], 1e3 * r["time_s"], r["nit"], r["nfev"],
@@ -216,9 +195,9 @@ def write(rows: list[dict[str, Any]], solvers: list[str], out: Path, env: list[s
               ("ok" if r["solved"] else ("F " if not r["success"] else "infeasible ") + r["message"][:70])]
              for r in rs],
         )
-    (out / f"{stem}.md").write_text("\n".join(lines) + "\n")
+    T.write_markdown(lines, stem.with_suffix(".md"))
     print("\n".join(lines[: lines.index(f"## Sweep: {rows[0]['sweep']}")]))
-    plot(rows, solvers, fits, out / f"{stem}.png")
+    plot(rows, solvers, fits, stem.with_suffix(".png"))
 
 
 def pareto_front(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
@@ -280,11 +259,11 @@ def _ratios(rows: list[dict[str, Any]], solvers: list[str]) -> list[str]:
                 else:
                     cells.append(f"×{r['time_s'] / ours[n]['time_s']:.3g}")
             body.append([scheme, name, *cells])
-    return C.markdown_table(["scheme", "solver", *[f"n = {n}" for n in ns]], body)
+    return T.markdown_table(["scheme", "solver", *[f"n = {n}" for n in ns]], body)
 
 
 def plot(rows: list[dict[str, Any]], solvers: list[str], fits: dict[str, dict[str, float]], path: Path) -> None:
-    plt = C.pyplot()
+    plt = T.pyplot()
     if plt is None:
         return
     fig, axes = plt.subplots(2, 2, figsize=(13, 10))

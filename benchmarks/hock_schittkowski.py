@@ -4,180 +4,102 @@ Every solver gets the same start and the same analytic derivatives, in one proce
 A problem is *solved* when max violation <= 1e-6 and f - f* <= 1e-6 max(1, |f*|). A *false success* is a claimed
 success at a point that is infeasible or not a KKT point, judged independently (:mod:`sqp.problems.judge`).
 
-Usage: ``python benchmarks/hock_schittkowski.py [--quick] [--repeats K] [--solvers a,b,...]``
-Writes ``benchmarks/results/hock_schittkowski.{md,csv}``.
+Time: the median over repeats of the ``minimize`` call alone (ours: :func:`sqp.minimize`; the peers of :mod:`_peers`
+with their constraint conversions prepared before it).
+
+Usage: ``python benchmarks/hock_schittkowski.py [--quick] [--repeats K] [--out DIR] [--solvers a,b,...]``
+Writes ``hock_schittkowski.{md,csv}`` (``hock_schittkowski_quick.*`` with ``--quick``) in ``--out`` (default
+``benchmarks/results``).
 """
 
 from __future__ import annotations
 
-import os
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
-os.environ.setdefault("MKL_NUM_THREADS", "1")
+import _arguments as A
+import _environment as E  # first: pins BLAS to one thread before numpy loads
+import _peers
+import _tables as T
+import _timing
+import numpy as np
+from _problems import Problem
+from _timing import sgm
 
-import argparse  # noqa: E402
-import csv  # noqa: E402
-import platform  # noqa: E402
-import time  # noqa: E402
-import warnings  # noqa: E402
-from collections.abc import Callable  # noqa: E402
-from pathlib import Path  # noqa: E402
-from typing import Any  # noqa: E402
+import sqp
+from sqp.problems.hock_schittkowski import all_problems
+from sqp.problems.judge import judge
+from sqp.problems.problem import TestProblem
 
-import numpy as np  # noqa: E402
-import scipy  # noqa: E402
-from scipy.optimize import LinearConstraint, minimize  # noqa: E402
-from threadpoolctl import threadpool_limits  # noqa: E402
-
-import sqp  # noqa: E402
-from sqp.problems.hock_schittkowski import all_problems  # noqa: E402
-from sqp.problems.judge import judge  # noqa: E402
-from sqp.problems.problem import TestProblem  # noqa: E402
-
-RESULTS = Path(__file__).resolve().parent / "results"
 QUICK = ["HS1", "HS6", "HS7", "HS14", "HS21", "HS35", "HS43", "HS71", "HS76", "HS100"]
-#: Shift (seconds) of the shifted geometric mean of run times, as qpbenchmark uses.
-TIME_SHIFT = 1e-3
 
 
-def _dict_constraints(prob: TestProblem) -> list[dict[str, Any]]:
-    """All constraints as SLSQP dicts (for peers that take only dicts)."""
-    out: list[dict[str, Any]] = []
-    for con in prob.constraints:
-        if not isinstance(con, LinearConstraint):
-            out.append(con)
-            continue
-        A = np.atleast_2d(np.asarray(con.A, dtype=float))
-        lb = np.broadcast_to(np.asarray(con.lb, float), (A.shape[0],))
-        ub = np.broadcast_to(np.asarray(con.ub, float), (A.shape[0],))
-        eq = lb == ub
-        if eq.any():
-            out.append({"type": "eq", "fun": lambda x, A=A[eq], b=lb[eq]: A @ x - b, "jac": lambda x, A=A[eq]: A})
-        lo = ~eq & np.isfinite(lb)
-        if lo.any():
-            out.append({"type": "ineq", "fun": lambda x, A=A[lo], b=lb[lo]: A @ x - b, "jac": lambda x, A=A[lo]: A})
-        up = ~eq & np.isfinite(ub)
-        if up.any():
-            out.append({"type": "ineq", "fun": lambda x, A=A[up], b=ub[up]: b - A @ x, "jac": lambda x, A=A[up]: -A})
-    return out
-
-
-def _counted(prob: TestProblem) -> tuple[Callable[[Any], float], list[int]]:
-    count = [0]
-
-    def fun(x: Any) -> float:
-        count[0] += 1
-        return prob.fun(x)
-
-    return fun, count
+def problem(prob: TestProblem) -> Problem:
+    """The test problem as the peers of :mod:`_peers` take it (no Hessians: they use quasi-Newton ones)."""
+    return Problem(prob.fun, prob.jac, prob.x0, prob.constraints, prob.bounds)
 
 
 def run_ours(prob: TestProblem, backend: str) -> dict[str, Any]:
+    start = time.perf_counter()
     res = sqp.minimize(prob.fun, prob.x0, prob.jac, prob.bounds, prob.constraints, qp_solver=backend)
     return {"x": res.x, "f": res.fun, "success": res.success, "nfev": res.nfev, "nit": res.nit,
-            "message": res.message}
-
-
-def run_scipy(prob: TestProblem, method: str, options: dict[str, Any]) -> dict[str, Any]:
-    fun, count = _counted(prob)
-    res = minimize(fun, prob.x0, jac=prob.jac, bounds=prob.bounds, constraints=_dict_constraints(prob),
-                   method=method, options=options)
-    return {"x": res.x, "f": res.fun, "success": bool(res.success), "nfev": count[0], "nit": res.nit,
-            "message": str(res.message)}
-
-
-def run_ipopt(prob: TestProblem) -> dict[str, Any]:
-    from cyipopt import minimize_ipopt
-
-    fun, count = _counted(prob)
-    res = minimize_ipopt(fun, prob.x0, jac=prob.jac, bounds=prob.bounds, constraints=_dict_constraints(prob),
-                         options={"hessian_approximation": "limited-memory", "print_level": 0, "max_iter": 3000,
-                                  "tol": 1e-8, "sb": "yes"})
-    return {"x": res.x, "f": res.fun, "success": bool(res.success), "nfev": count[0], "nit": res.nit,
-            "message": str(res.message)}
+            "message": res.message, "time": time.perf_counter() - start}
 
 
 def solvers(names: list[str] | None) -> dict[str, Callable[[TestProblem], dict[str, Any]]]:
+    """Ours with every installed QP backend and the peers: SLSQP and trust-constr with every constraint as a dict
+    (``maxiter`` 500 and 3000), IPOPT with dense dicts and its limited-memory quasi-Newton."""
     table: dict[str, Callable[[TestProblem], dict[str, Any]]] = {}
     for backend in sqp.installed_solvers():
         table[f"sqp[{backend}]"] = lambda p, b=backend: run_ours(p, b)
-    table["scipy SLSQP"] = lambda p: run_scipy(p, "SLSQP", {"maxiter": 500})
-    table["scipy trust-constr"] = lambda p: run_scipy(p, "trust-constr", {"maxiter": 3000})
-    try:
-        import cyipopt  # noqa: F401
-
-        table["IPOPT (L-BFGS)"] = run_ipopt
-    except ImportError:
-        pass
+    table["scipy SLSQP"] = lambda p: _peers.run_slsqp(problem(p), maxiter=500)
+    table["scipy trust-constr"] = lambda p: _peers.run_trust_constr(problem(p), maxiter=3000, linear_as_dicts=True)
+    if E.ipopt_available():
+        table["IPOPT (L-BFGS)"] = lambda p: _peers.run_ipopt(problem(p), sparse=False)
     if names:
         table = {k: v for k, v in table.items() if any(n in k for n in names)}
     return table
 
 
 def measure(prob: TestProblem, run: Callable[[TestProblem], dict[str, Any]], repeats: int) -> dict[str, Any]:
-    times = []
-    out: dict[str, Any] = {}
-    for _ in range(repeats):
-        t = time.perf_counter()
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                out = run(prob)
-        except Exception as exc:  # a peer crashing is a result, not the end of the benchmark
-            out = {"x": np.full(prob.n, np.nan), "f": np.nan, "success": False, "nfev": 0, "nit": 0,
-                   "message": f"raised {type(exc).__name__}: {exc}"}
-        times.append(time.perf_counter() - t)
+    """Median time of ``repeats`` runs (no limit) and the last answer, judged independently."""
+    out = _timing.measure(run, prob, repeats, adaptive=False)
+    if out["outcome"] != "ran":  # a peer crashing is a result, not the end of the benchmark
+        out.update(x=np.full(prob.n, np.nan), f=np.nan)
     v = judge(prob, out["x"])
-    return {**out, "time": float(np.median(times)), "solved": v.solved, "maxcv": v.maxcv,
+    return {**out, "solved": v.solved, "maxcv": v.maxcv,
             "stationarity": v.stationarity, "false_success": v.false_success(out["success"]),
             "unsolved_success": bool(out["success"] and not v.solved)}
 
 
-def sgm(values: list[float], shift: float = TIME_SHIFT) -> float:
-    """Shifted geometric mean."""
-    return float(np.exp(np.mean(np.log(np.asarray(values) + shift))) - shift)
-
-
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="ten problems, one repeat (under a minute)")
-    ap.add_argument("--repeats", type=int, default=3, help="timing repeats per solve (median reported)")
-    ap.add_argument("--solvers", type=str, default="", help="comma-separated substrings of solver names")
-    ap.add_argument("--out", type=Path, default=RESULTS)
-    a = ap.parse_args()
+    ap = A.parser(__doc__, quick_help="ten problems, one repeat (under a minute)", repeats=3, solvers=True)
+    a = A.parse(ap)
     probs = all_problems()
     if a.quick:
         probs = [p for p in probs if p.name in QUICK]
-    repeats = 1 if a.quick else a.repeats
-    table = solvers([s for s in a.solvers.split(",") if s] or None)
-    print(f"machine: {platform.machine()} {platform.processor()} {os.cpu_count()} cores; python "
-          f"{platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}; BLAS pinned to 1 thread")
+    repeats = a.repeats
+    table = solvers(A.names(a.solvers) or None)
+    env = E.environment(guidewire=False)
+    print("\n".join(env))
     print(f"{len(probs)} problems, {len(table)} solvers, median of {repeats} repeats")
-    try:
-        from tqdm import tqdm
-    except ImportError:  # progress bar is optional
-        def tqdm(x: Any, **_: Any) -> Any:
-            return x
     rows: list[dict[str, Any]] = []
-    with threadpool_limits(limits=1):
-        for prob in tqdm(probs, desc="problems"):
+    with E.one_thread():
+        for prob in E.progress(probs, desc="problems"):
             for name, run in table.items():
                 r = measure(prob, run, repeats)
                 rows.append({"problem": prob.name, "solver": name, **{k: r[k] for k in (
                     "solved", "success", "false_success", "unsolved_success", "f", "maxcv", "stationarity",
                     "nfev", "nit", "time", "message")}})
-    write(rows, probs, table, a.out, repeats, quick=a.quick)
+    write(rows, probs, table, a.out, repeats, env, quick=a.quick)
 
 
 def write(rows: list[dict[str, Any]], probs: list[TestProblem], table: dict[str, Any], out: Path, repeats: int,
-          *, quick: bool) -> None:
-    out.mkdir(parents=True, exist_ok=True)
-    stem = "hock_schittkowski_quick" if quick else "hock_schittkowski"
-    with open(out / f"{stem}.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+          env: list[str], *, quick: bool) -> None:
+    stem = T.output_stem(out, "hock_schittkowski", quick)
+    T.write_csv(rows, stem.with_suffix(".csv"))
     ref = "scipy SLSQP"
     ref_times = {r["problem"]: r["time"] for r in rows if r["solver"] == ref}
     summary = []
@@ -201,8 +123,7 @@ def write(rows: list[dict[str, Any]], probs: list[TestProblem], table: dict[str,
         "multipliers on the active set, scaled stationarity ≤ 1e-4). Time ratio: shifted geometric mean (shift 1 ms) "
         "relative to scipy SLSQP on the same problems in the same run.",
         "",
-        f"python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}, "
-        f"{platform.machine()}, {os.cpu_count()} cores",
+        *[f"- {e}" for e in env],
         "",
         "| solver | solved | false successes | successes not solved | mean f-evals | time sgm (ms) | × SLSQP |",
         "|---|---|---|---|---|---|---|",
@@ -214,7 +135,7 @@ def write(rows: list[dict[str, Any]], probs: list[TestProblem], table: dict[str,
     lines += ["", "## Not solved", ""]
     for s in summary:
         lines.append(f"- **{s['solver']}**: {s['unsolved'] or '—'}")
-    (out / f"{stem}.md").write_text("\n".join(lines) + "\n")
+    T.write_markdown(lines, stem.with_suffix(".md"))
     print("\n".join(lines))
 
 

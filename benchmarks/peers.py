@@ -4,9 +4,9 @@ What is measured
 ----------------
 Every feasible paper scene (Tables 1 and 2 at all five angles, Fig. 6a, Fig. 6b, Table 4; Table 5 as printed is
 infeasible and left out) in its default (second-order) scheme at n ∈ {25, 50, 100, 200, 400, 800, 1600} bars, solved
-by ``ours`` (:func:`guidewire.solve` with its defaults), ``ours[bfgs]`` (the paper's damped BFGS, when the
-``hessian`` option exists), ``ours[<backend>]`` for every installed qpsolvers backend, and the peers of
-:mod:`_common`: scipy SLSQP, scipy trust-constr and IPOPT (cyipopt; left out when not installed). Every solver starts
+by ``ours`` (:func:`guidewire.solve` with its defaults), ``ours[bfgs]`` (the paper's damped BFGS), ``ours[<backend>]``
+for every installed qpsolvers backend, and the peers of :mod:`_peers`: scipy SLSQP, scipy trust-constr and IPOPT
+(cyipopt; left out when not installed). Every solver starts
 from the formulation's ``x0`` (the elastica-like start) with the same analytic derivatives; trust-constr and IPOPT get
 the exact Hessians when the formulation offers them. One more row group starts everyone from the straight wire (all
 angles 0) at one n, to show who fails from there.
@@ -23,7 +23,7 @@ n on that scene ("stopped: > 60 s at n = …"). To keep the full run near 20 min
 a scene predict more than the limit at the next n (its own measured growth per doubling, at least ×2, once it takes
 > limit/20) is not started there ("skipped: predicted …"), and a solver other than ``ours`` that has spent ``--budget``
 s (default 60) of solve time on the wall scenes, or on the contact scenes, is not started again on them (n is the
-outer loop, so this cuts the largest n first); every skip is written in the tables (:class:`_common.Budget`).
+outer loop, so this cuts the largest n first); every skip is written in the tables (:class:`_timing.Budget`).
 
 Usage: ``python benchmarks/peers.py [--quick] [--repeats K] [--out DIR] [--limit S] [--bars 25,100] [--solvers a,b]``
 Writes ``peers.{md,csv,png}`` (``peers_quick.*`` with ``--quick``) in ``--out`` (default ``benchmarks/results``).
@@ -31,24 +31,21 @@ Writes ``peers.{md,csv,png}`` (``peers_quick.*`` with ``--quick``) in ``--out`` 
 
 from __future__ import annotations
 
-import os
+import math
+import time
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
-os.environ.setdefault("MKL_NUM_THREADS", "1")
+import _arguments as A
+import _environment as E  # first: pins BLAS to one thread before numpy loads
+import _guidewire as G
+import _tables as T
+import _timing
+import numpy as np
+from _peers import PEER_MAX_ITER
 
-import argparse  # noqa: E402
-import math  # noqa: E402
-import time  # noqa: E402
-from dataclasses import replace  # noqa: E402
-from pathlib import Path  # noqa: E402
-from typing import Any  # noqa: E402
-
-import _common as C  # noqa: E402
-import numpy as np  # noqa: E402
-from threadpoolctl import threadpool_limits  # noqa: E402
-
-import guidewire  # noqa: E402
+import guidewire
 
 BARS = (25, 50, 100, 200, 400, 800, 1600, 3200)
 QUICK_BARS = (25, 100)
@@ -65,10 +62,10 @@ SEQUENCE_STEPS, QUICK_SEQUENCE_STEPS, SEQUENCE_BARS, SEQUENCE_STEP_MM = 40, 5, 1
 
 def scenes(quick: bool, pattern: str) -> list[guidewire.Scene]:
     """The feasible paper scenes (a few with ``quick``), filtered by comma-separated name substrings."""
-    out = [s for s in guidewire.paper_scenes().values() if s.infeasibility() is None]
+    out = [s for s in guidewire.paper_scenes().values() if G.feasible(s)]
     if quick:
         out = [s for s in out if s.name in QUICK_SCENES]
-    names = [p for p in pattern.split(",") if p]
+    names = A.names(pattern)
     return [s for s in out if not names or any(p in s.name for p in names)]
 
 
@@ -76,34 +73,29 @@ def is_wall_scene(scene: guidewire.Scene) -> bool:
     return bool(scene.walls)
 
 
-def run_case(case: C.Case, solvers: dict[str, Any], budget: C.Budget | None, repeats: int,
+def run_case(case: G.Case, solvers: dict[str, Any], budget: _timing.Budget | None, repeats: int,
              limit: float) -> dict[str, dict[str, Any]]:
     """Every solver on one case: the raw results by solver name."""
     out: dict[str, dict[str, Any]] = {}
     for name, run in solvers.items():
         group = "wall scenes" if is_wall_scene(case.scene) else "contact scenes"
-        skip = budget.reason_to_skip(name, case.scene.name, case.n, group) if budget else None
         if name.startswith("ours[") and case.n > VARIANT_MAX_BARS:
-            skip = f"skipped: the variants of ours are measured up to n = {VARIANT_MAX_BARS}"
-        if skip is not None:
-            out[name] = {"outcome": "skipped", "time": math.nan, "x": None, "success": False, "message": skip,
-                         "nit": 0, "nfev": 0, "repeats": 0}
-            continue
-        res = C.measure(run, case, repeats, limit)
-        if budget:
-            budget.record(name, case.scene.name, case.n, res, group)
-        out[name] = res
+            out[name] = _timing.skipped(f"skipped: the variants of ours are measured up to n = {VARIANT_MAX_BARS}")
+        elif budget is None:
+            out[name] = _timing.measure(run, case, repeats, limit)
+        else:
+            out[name] = budget.measure(name, case.scene.name, case.n, run, case, repeats, group)
     return out
 
 
-def rows_for(group: str, case: C.Case, results: dict[str, dict[str, Any]], ref: Any, ref_note: str,
+def rows_for(group: str, case: G.Case, results: dict[str, dict[str, Any]], ref: Any, ref_note: str,
              best: float) -> list[dict[str, Any]]:
     """Table rows of one case (``best``: lowest feasible energy of this scene and n over both starts)."""
     ours_time = results.get("ours", {}).get("time", math.nan)
     rows = []
     for name, res in results.items():
-        ev = C.evaluate(case.form, res.get("x"), ref)
-        label = C.branch(ev["energy"], ev["max_violation"], best)
+        ev = G.evaluate(case, res.get("x"), ref)
+        label = G.branch(ev["energy"], ev["max_violation"], best)
         solved = bool(res["success"]) and label == "lowest"
         ref_energy = float(ref.energy) if ref is not None else math.nan
         rows.append({
@@ -141,18 +133,18 @@ def run_sequence(steps: int, bars: int, repeats: int, limit: float,
     scenes = sequence_scenes(steps)
     cold: list[dict[str, Any]] = []
     for scene in scenes:
-        res = C.measure(C.run_ours, C.make_case(scene, bars=bars), repeats, limit)
+        res = _timing.measure(G.run_ours, G.make_case(scene, bars=bars), repeats, limit)
         cold.append(res)
-    reference = [float(C.make_case(sc, bars=bars).form.fun(r["x"])) if r.get("x") is not None else math.nan
+    reference = [float(G.make_case(sc, bars=bars).problem.fun(r["x"])) if r.get("x") is not None else math.nan
                  for sc, r in zip(scenes, cold, strict=True)]
     traces: dict[str, list[dict[str, Any]]] = {"ours (cold)": cold}
     if hasattr(guidewire, "solve_sequence"):
         runs = []
         try:
             for _ in range(repeats):
-                with C.time_limit(limit * len(scenes)):
+                with _timing.time_limit(limit * len(scenes)):
                     runs.append(guidewire.solve_sequence(scenes, bars=bars))
-        except (Exception, C.SolveTimeout) as exc:  # recorded as failed steps
+        except (Exception, _timing.SolveTimeout) as exc:  # recorded as failed steps
             print(f"solve_sequence raised {type(exc).__name__}: {exc}")
         if runs:
             last = runs[-1]
@@ -160,15 +152,12 @@ def run_sequence(steps: int, bars: int, repeats: int, limit: float,
                 {"x": last[k].bar_angles, "success": last[k].success, "nit": last[k].iterations,
                  "time": float(np.median([run[k].solve_time_s for run in runs])), "outcome": "ran"}
                 for k in range(len(scenes))]
-    for name, run in {"ours (warm x)": C.run_ours, **peers}.items():
+    for name, run in {"ours (warm x)": G.run_ours, **peers}.items():
         trace, x_prev = [], None
         for scene in scenes:
-            if x_prev is None:
-                case = C.make_case(scene, bars=bars)
-            else:
-                sized = scene.with_bars(bars)
-                case = C.Case(sized, C.formulate(sized, initial_angles=x_prev), "previous")
-            res = C.measure(run, case, repeats, limit)
+            case = (G.make_case(scene, bars=bars) if x_prev is None
+                    else G.make_case(scene, bars=bars, start="previous", initial_angles=x_prev))
+            res = _timing.measure(run, case, repeats, limit)
             trace.append(res)
             if res.get("x") is not None and np.all(np.isfinite(res["x"])):
                 x_prev = np.asarray(res["x"], dtype=float)
@@ -182,79 +171,70 @@ def run_sequence(steps: int, bars: int, repeats: int, limit: float,
             if r.get("x") is None:
                 gaps.append(math.inf)
                 continue
-            form = C.make_case(scenes[k], bars=bars).form
-            ok = float(np.max(form.violations(np.asarray(r["x"])), initial=0.0)) <= C.FEASIBILITY_TOL
-            gaps.append(abs(float(form.fun(np.asarray(r["x"]))) - reference[k]) / reference[k] if ok else math.inf)
+            ev = G.evaluate(G.make_case(scenes[k], bars=bars), r["x"], None)
+            ok = ev["max_violation"] <= G.FEASIBILITY_TOL
+            gaps.append(abs(ev["energy"] - reference[k]) / reference[k] if ok else math.inf)
         rows.append({"group": "sequence", "solver": name, "n": bars, "steps": len(steps_),
                      "median_step_ms": 1e3 * float(np.nanmedian(times)), "max_step_ms": 1e3 * float(np.nanmax(times)),
                      "mean_iterations": float(np.mean([r["nit"] for r in steps_])),
                      "failures": int(sum(not r["success"] for r in steps_)),
-                     "off_cold_energy": int(sum(g > C.SAME_ENERGY_RTOL for g in gaps)),
+                     "off_cold_energy": int(sum(g > G.SAME_ENERGY_RTOL for g in gaps)),
                      "max_energy_gap": float(np.max(gaps)) if gaps else math.nan})
     return rows
 
 
-def best_energy(results: list[dict[str, dict[str, Any]]], form: Any) -> float:
+def best_energy(results: list[dict[str, dict[str, Any]]], case: G.Case) -> float:
     """Lowest energy of any feasible answer among ``results`` (nan if none)."""
     energies = []
     for group in results:
         for res in group.values():
-            ev = C.evaluate(form, res.get("x"), None)
-            if np.isfinite(ev["energy"]) and ev["max_violation"] <= C.FEASIBILITY_TOL:
+            ev = G.evaluate(case, res.get("x"), None)
+            if np.isfinite(ev["energy"]) and ev["max_violation"] <= G.FEASIBILITY_TOL:
                 energies.append(ev["energy"])
     return min(energies, default=math.nan)
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="n in {25, 100}, three scenes, one repeat (< 1 minute)")
-    ap.add_argument("--repeats", type=int, default=3, help="timing repeats per solve (median reported)")
-    ap.add_argument("--out", type=Path, default=C.RESULTS)
-    ap.add_argument("--limit", type=float, default=60.0, help="time limit of one solve (s)")
-    ap.add_argument("--budget", type=float, default=60.0,
-                    help="solve time (s) per peer on the wall scenes and again on the contact scenes")
+    ap = A.parser(__doc__, quick_help="n in {25, 100}, three scenes, one repeat (< 1 minute)", repeats=3,
+                  limit=60.0, budget=60.0, solvers=True,
+                  budget_help="solve time (s) per peer on the wall scenes and again on the contact scenes")
     ap.add_argument("--bars", type=str, default="", help="comma-separated n values (default: the full grid)")
     ap.add_argument("--scenes", type=str, default="", help="comma-separated substrings of scene names")
-    ap.add_argument("--solvers", type=str, default="", help="comma-separated substrings of solver names")
-    a = ap.parse_args()
-    bars = tuple(int(b) for b in a.bars.split(",") if b) or (QUICK_BARS if a.quick else BARS)
-    repeats = 1 if a.quick else a.repeats
-    limit = min(a.limit, 20.0) if a.quick else a.limit
+    a = A.parse(ap)
+    bars = tuple(int(b) for b in A.names(a.bars)) or (QUICK_BARS if a.quick else BARS)
+    repeats, limit = a.repeats, a.limit
     straight_bars = QUICK_STRAIGHT_BARS if a.quick else STRAIGHT_BARS
     scene_list = scenes(a.quick, a.scenes)
-    solvers = {**C.ours_variants(), **C.peer_variants()}
-    wanted = [s for s in a.solvers.split(",") if s]
+    solvers = {**G.ours_variants(), **G.peer_variants()}
+    wanted = A.names(a.solvers)
     if wanted:
         solvers = {k: v for k, v in solvers.items() if k == "ours" or any(w in k for w in wanted)}
-    env = C.environment()
+    env = E.environment()
     settings = (f"{len(scene_list)} scenes × n ∈ {list(bars)} (+ straight start at n = {straight_bars}); "
-                f"{len(solvers)} solvers: {', '.join(solvers)}; median of {repeats} repeat(s) (one run once a solve "
-                f"takes > {C.SINGLE_RUN_S:g} s; up to {C.FAST_REPEATS} while they take < {C.FAST_TOTAL_S:g} s in "
-                f"all); time limit {limit:g} s per solve, {a.budget:g} s of solves per peer "
+                f"{len(solvers)} solvers: {', '.join(solvers)}; {_timing.repeats_note(repeats)}; "
+                f"time limit {limit:g} s per solve, {a.budget:g} s of solves per peer "
                 "on the wall scenes and again on the contact scenes")
     print("\n".join(env + [settings]))
-    hessian_note = C.peer_hessian_note(C.make_case(scene_list[0], bars=bars[0]).form)
+    hessian_note = G.peer_hessian_note(G.make_case(scene_list[0], bars=bars[0]))
 
     rows: list[dict[str, Any]] = []
-    budget = C.Budget(limit, a.budget)
+    budget = _timing.Budget(limit, a.budget)
     start = time.perf_counter()
-    with threadpool_limits(limits=1):
-        warm = C.make_case(guidewire.paper_scenes()["table1_pi_4"], bars=10)
-        for run in solvers.values():  # first calls load libraries; not timed
-            C.measure(run, warm, 1, limit)
+    with E.one_thread():
+        G.warm_up(solvers, limit)
         jobs = [(scene, n) for n in bars for scene in scene_list]
-        straight: dict[tuple[str, int], tuple[C.Case, dict[str, Any]]] = {}
-        for scene, n in C.progress(jobs, desc="scene × n"):
-            ref, note = C.reference(scene)
-            case = C.make_case(scene, bars=n)
+        straight: dict[tuple[str, int], tuple[G.Case, dict[str, Any]]] = {}
+        for scene, n in E.progress(jobs, desc="scene × n"):
+            ref, note = G.reference(scene)
+            case = G.make_case(scene, bars=n)
             results = run_case(case, solvers, budget, repeats, limit)
             group_results = [results]
             if n == straight_bars:
-                s_case = C.make_case(scene, bars=n, start="straight")
+                s_case = G.make_case(scene, bars=n, start="straight")
                 s_results = run_case(s_case, solvers, None, repeats, limit)
                 straight[(scene.name, n)] = (s_case, s_results)
                 group_results.append(s_results)
-            best = best_energy(group_results, case.form)
+            best = best_energy(group_results, case)
             rows += rows_for("elastica start", case, results, ref, note, best)
             if n == straight_bars:
                 s_case, s_results = straight[(scene.name, n)]
@@ -277,8 +257,8 @@ def _summary(rows: list[dict[str, Any]], solvers: list[str], bars: tuple[int, ..
             ok = [r for r in rs if r["solved"]]
             entry["solved"] += len(ok)
             entry["problems"] += len(rs)
-            entry[n] = {"solved": len(ok), "of": len(rs), "sgm": C.sgm([r["time_s"] for r in ok]),
-                        "ratio": C.sgm([r["ratio_to_ours"] for r in ok if np.isfinite(r["ratio_to_ours"])], 0.0)}
+            entry[n] = {"solved": len(ok), "of": len(rs), "sgm": _timing.sgm([r["time_s"] for r in ok]),
+                        "ratio": _timing.sgm([r["ratio_to_ours"] for r in ok if np.isfinite(r["ratio_to_ours"])], 0.0)}
         out.append(entry)
     key_n = 100 if 100 in bars else bars[0]
     out.sort(key=lambda e: (-e["solved"], np.nan_to_num(e[key_n]["sgm"], nan=np.inf)))
@@ -316,9 +296,8 @@ def _straight_cell(r: dict[str, Any]) -> str:
 
 def write(rows: list[dict[str, Any]], solvers: list[str], bars: tuple[int, ...], out: Path, env: list[str],
           settings: str, hessian_note: str, *, quick: bool) -> None:
-    out.mkdir(parents=True, exist_ok=True)
-    stem = "peers_quick" if quick else "peers"
-    C.write_csv(rows, out / f"{stem}.csv")
+    stem = T.output_stem(out, "peers", quick)
+    T.write_csv(rows, stem.with_suffix(".csv"))
     sequence = [r for r in rows if r["group"] == "sequence"]
     rows = [r for r in rows if r["group"] != "sequence"]
     summary = _summary(rows, solvers, bars)
@@ -331,17 +310,17 @@ def write(rows: list[dict[str, Any]], solvers: list[str], bars: tuple[int, ...],
         f"- {settings}",
         f"- same start (the formulation's elastica-like `x0`) and the same analytic derivatives for every solver; "
         f"{hessian_note}; peers with scipy's default tolerances (IPOPT tol 1e-8), iteration caps "
-        f"{', '.join(f'{k} {v}' for k, v in C.PEER_MAX_ITER.items())}",
+        f"{', '.join(f'{k} {v}' for k, v in PEER_MAX_ITER.items())}",
         "- ours: `guidewire.solve` defaults; time = `Solution.solve_time_s` (formulation, solve and wall rounds; "
         "peers: the `minimize` call alone, their formulation prepared outside the timer)",
-        f"- *solved*: success reported, violation ≤ {C.FEASIBILITY_TOL:g} on every row of the full formulation, "
-        f"energy within {C.SAME_ENERGY_RTOL:g} (relative) of the lowest feasible energy any solver reached on the "
+        f"- *solved*: success reported, violation ≤ {G.FEASIBILITY_TOL:g} on every row of the full formulation, "
+        f"energy within {G.SAME_ENERGY_RTOL:g} (relative) of the lowest feasible energy any solver reached on the "
         "same problem (*lowest branch*); ratios are to `ours` on the same problem in the same run",
         "",
         "## Summary (elastica start): solved problems and shifted geometric mean time over them",
         "",
-        f"Cell: `solved/problems · sgm ms · ×ours` (sgm shift {1e3 * C.TIME_SHIFT:g} ms; ×ours = geometric mean of the "
-        "per-problem time ratios where both solved). Sorted by problems solved, then time at n = 100.",
+        f"Cell: `solved/problems · sgm ms · ×ours` (sgm shift {1e3 * _timing.TIME_SHIFT:g} ms; ×ours = geometric mean "
+        "of the per-problem time ratios where both solved). Sorted by problems solved, then time at n = 100.",
         "",
     ]
     header = ["solver", "solved"] + [f"n = {n}" for n in bars]
@@ -357,7 +336,7 @@ def write(rows: list[dict[str, Any]], solvers: list[str], bars: tuple[int, ...],
                     text += f" · ×{d['ratio']:.2g}"
             cells.append(text)
         body.append([e["solver"], f"{e['solved']}/{e['problems']}", *cells])
-    lines += C.markdown_table(header, body)
+    lines += T.markdown_table(header, body)
     lines += ["", "## Headline: ours against the fastest peer that solved, per problem", ""]
     lines += _headline(main_rows, bars)
     lines += _growth(main_rows, bars)
@@ -379,12 +358,12 @@ def write(rows: list[dict[str, Any]], solvers: list[str], bars: tuple[int, ...],
                 r = next((r for r in rs if r["solver"] == name and r["n"] == n), None)
                 cells.append(_detail_cell(r) if r else "")
             body.append([name, *cells])
-        lines += C.markdown_table(["solver"] + [f"n = {n}" for n in bars], body)
+        lines += T.markdown_table(["solver"] + [f"n = {n}" for n in bars], body)
         ours = [r for r in rs if r["solver"] == "ours" and r["outcome"] == "ran"]
         if ours:
             lines += ["", "ours: " + "; ".join(
                 f"n = {r['n']}: E = {r['energy']:.6g}, vs continuum {r['energy_vs_reference']:+.1e}, mean error "
-                f"{C.cell(r['mean_error_mm'], 3)} mm, {r['nit']} it" for r in ours)]
+                f"{T.cell(r['mean_error_mm'], 3)} mm, {r['nit']} it" for r in ours)]
         lines.append("")
     straight = [r for r in rows if r["group"] == "straight start"]
     if straight:
@@ -398,7 +377,7 @@ def write(rows: list[dict[str, Any]], solvers: list[str], bars: tuple[int, ...],
                 r = next((r for r in straight if r["scene"] == scene and r["solver"] == name), None)
                 cells.append(_straight_cell(r) if r else "")
             body.append([scene, *cells])
-        lines += C.markdown_table(["scene", *order], body)
+        lines += T.markdown_table(["scene", *order], body)
         lines += ["", "Solved from the straight start: " + ", ".join(
             f"{name} {sum(r['solved'] for r in straight if r['solver'] == name)}/"
             f"{sum(r['solver'] == name for r in straight)}" for name in order), ""]
@@ -409,22 +388,22 @@ def write(rows: list[dict[str, Any]], solvers: list[str], bars: tuple[int, ...],
                   "`ours (warm x)`: `guidewire.solve` from the previous angles; `ours (cold)`: every step from the "
                   "default start; "
                   "peers: from the previous answer's angles. *off cold*: steps whose energy differs from ours (cold) "
-                  f"by more than {C.SAME_ENERGY_RTOL:g} (relative) or that are infeasible.", ""]
-        lines += C.markdown_table(
+                  f"by more than {G.SAME_ENERGY_RTOL:g} (relative) or that are infeasible.", ""]
+        lines += T.markdown_table(
             ["solver", "median per step (ms)", "max per step (ms)", "mean iterations", "failures", "off cold"],
             [[r["solver"], r["median_step_ms"], r["max_step_ms"], r["mean_iterations"], r["failures"],
               r["off_cold_energy"]] for r in sorted(sequence, key=lambda r: r["median_step_ms"])])
         lines.append("")
     failed = [r for r in main_rows if not r["solved"] and r["outcome"] != "skipped"]
     lines += ["## Elastica start: every problem not solved", ""]
-    lines += C.markdown_table(
+    lines += T.markdown_table(
         ["scene", "n", "solver", "success", "branch", "energy", "max violation", "time (s)", "message"],
         [[r["scene"], r["n"], r["solver"], r["success"], r["branch"], r["energy"], r["max_violation"], r["time_s"],
           r["message"][:90]] for r in failed],
     ) if failed else ["none"]
-    (out / f"{stem}.md").write_text("\n".join(lines) + "\n")
+    T.write_markdown(lines, stem.with_suffix(".md"))
     print("\n".join(lines[: lines.index("## Time per scene (elastica start)")]))
-    plot(main_rows, order, bars, out / f"{stem}.png")
+    plot(main_rows, order, bars, stem.with_suffix(".png"))
 
 
 def _headline(rows: list[dict[str, Any]], bars: tuple[int, ...]) -> list[str]:
@@ -448,9 +427,9 @@ def _headline(rows: list[dict[str, Any]], bars: tuple[int, ...]) -> list[str]:
             body.append([n, 0, "—", "—", "—", "—", "—"])
             continue
         names = ", ".join(f"{k} {which.count(k)}" for k in sorted(set(which)))
-        body.append([n, len(ratios), f"{1e3 * C.sgm(ours_t):.3g}", f"{1e3 * C.sgm(peer_t):.3g}",
+        body.append([n, len(ratios), f"{1e3 * _timing.sgm(ours_t):.3g}", f"{1e3 * _timing.sgm(peer_t):.3g}",
                      f"{float(np.exp(np.mean(np.log(ratios)))):.2g}", f"{min(ratios):.2g}", names])
-    return C.markdown_table(["n", "problems (ours and a peer solved)", "ours sgm (ms)", "fastest peer sgm (ms)",
+    return T.markdown_table(["n", "problems (ours and a peer solved)", "ours sgm (ms)", "fastest peer sgm (ms)",
                              "peer/ours (geo. mean)", "peer/ours (worst)", "fastest peer"], body)
 
 
@@ -472,14 +451,14 @@ def _growth(rows: list[dict[str, Any]], bars: tuple[int, ...]) -> list[str]:
         return []
     k = math.log(hi / lo)
     per = [math.log(t1 / t0) / k for _, t0, t1 in pairs]
-    whole = math.log(C.sgm([p[2] for p in pairs]) / C.sgm([p[1] for p in pairs])) / k
+    whole = math.log(_timing.sgm([p[2] for p in pairs]) / _timing.sgm([p[1] for p in pairs])) / k
     worst = max(zip(per, (p[0] for p in pairs), strict=True))
     return ["", f"Cost growth of ours from n = {lo} to n = {hi} ({len(pairs)} scenes solved at both): sgm time ∝ "
             f"n^{whole:.2f}; per scene n^{min(per):.2f} … n^{worst[0]:.2f} ({worst[1]})."]
 
 
 def plot(rows: list[dict[str, Any]], solvers: list[str], bars: tuple[int, ...], path: Path) -> None:
-    plt = C.pyplot()
+    plt = T.pyplot()
     if plt is None:
         return
     panels = [("Tables 1, 2, 4 (contacts)", False), ("Fig. 6a, 6b (walls)", True)]
@@ -492,7 +471,7 @@ def plot(rows: list[dict[str, Any]], solvers: list[str], bars: tuple[int, ...], 
                       and r["solved"]]
                 if ok:
                     xs.append(n)
-                    ys.append(C.sgm(ok))
+                    ys.append(_timing.sgm(ok))
             if not xs:
                 continue
             ours = name.startswith("ours")

@@ -40,32 +40,27 @@ Writes ``stability.{md,csv,png}`` (``stability_quick.*`` with ``--quick``) in ``
 
 from __future__ import annotations
 
-import os
+import contextlib
+import math
+import multiprocessing as mp
+import time
+import traceback
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
-os.environ.setdefault("MKL_NUM_THREADS", "1")
+import _arguments as A
+import _environment as E  # first: pins BLAS to one thread before numpy loads
+import _guidewire as G
+import _tables as T
+import numpy as np
+from scipy.integrate import quad
 
-import argparse  # noqa: E402
-import contextlib  # noqa: E402
-import math  # noqa: E402
-import multiprocessing as mp  # noqa: E402
-import time  # noqa: E402
-import traceback  # noqa: E402
-from collections.abc import Callable  # noqa: E402
-from dataclasses import dataclass, field  # noqa: E402
-from pathlib import Path  # noqa: E402
-from typing import Any  # noqa: E402
-
-import _common as C  # noqa: E402
-import numpy as np  # noqa: E402
-from scipy.integrate import quad  # noqa: E402
-from threadpoolctl import threadpool_limits  # noqa: E402
-
-import guidewire  # noqa: E402
-import sqp  # noqa: E402
-from guidewire import Base, Contact, Scene, Wall  # noqa: E402
-from guidewire.paper import paper_wire  # noqa: E402
+import guidewire
+import sqp
+from guidewire import Base, Contact, Scene, Wall
+from guidewire.paper import paper_wire
 
 MAX_ITER = 500
 #: Mean node error (as a fraction of the wire length) up to which an answer agrees with the continuum reference:
@@ -112,7 +107,7 @@ def taut(offset_angle: float) -> Scene:
 def one_bar_apart() -> Scene:
     """Table 1 plus contacts at s = 50 and 51 on the continuum solution (points and tangent angles)."""
     base = table1()
-    ref, note = C.reference(base)
+    ref, note = G.reference(base)
     if ref is None:
         raise RuntimeError(f"no Table 1 reference to place the contacts on: {note}")
     s = np.array([50.0, 51.0])
@@ -263,12 +258,12 @@ def run_case(case: StabilityCase) -> dict[str, Any]:
     row["finite"] = bool(np.all(np.isfinite(sol.nodes)) and np.isfinite(sol.energy))
     if case.reference:
         stage = "computing the continuum reference"
-        ref, note = C.reference(scene)
+        ref, note = G.reference(scene)
         twins = len(getattr(ref, "shapes", ()))
         row["reference_note"] = note + (f"{twins} equal-lowest continuum shapes (mirror twins); errors against the "
                                         "nearest" if twins > 1 else "")
         if ref is not None:
-            mean, worst = C.reference_errors(sol.nodes, sol.s, ref)
+            mean, worst = G.reference_errors(sol.nodes, sol.s, ref)
             energy = float(ref.energy)
             row.update(reference_energy=energy, mean_error_mm=mean, max_error_mm=worst,
                        energy_vs_reference=(sol.energy - energy) / abs(energy))
@@ -292,7 +287,7 @@ def verdict(case: StabilityCase, row: dict[str, Any]) -> tuple[str, str]:
     if not finite:
         return "BUG: NaN/inf in the answer", agree
     if row["success"]:
-        if row["max_violation"] > C.FEASIBILITY_TOL:
+        if row["max_violation"] > G.FEASIBILITY_TOL:
             return "FALSE SUCCESS (infeasible)", agree
         if agree == "NO":
             return "FALSE SUCCESS? (other branch than the reference)", agree
@@ -301,7 +296,7 @@ def verdict(case: StabilityCase, row: dict[str, Any]) -> tuple[str, str]:
 
 
 def _child(case: StabilityCase, conn: Any) -> None:
-    with threadpool_limits(limits=1):
+    with E.one_thread():
         try:
             conn.send(run_case(case))
         except BaseException as exc:  # noqa: BLE001 - the parent must always get a row
@@ -338,33 +333,30 @@ def run_isolated(case: StabilityCase, timeout: float) -> dict[str, Any]:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="a few cheap cases (< 1 minute)")
-    ap.add_argument("--repeats", type=int, default=1,
-                    help="solves per case (the row shows the last; the time is the median)")
-    ap.add_argument("--out", type=Path, default=C.RESULTS)
+    ap = A.parser(__doc__, quick_help="a few cheap cases (< 1 minute)", repeats=1,
+                  repeats_help="solves per case (the row shows the last; the time is the median)")
     ap.add_argument("--timeout", type=float, default=0.0, help="override every case's wall-clock limit (s)")
     ap.add_argument("--cases", type=str, default="", help="comma-separated substrings of case names")
-    a = ap.parse_args()
+    a = A.parse(ap)
     selected = cases()
     if a.quick:
         selected = [c for c in selected if any(q in c.name for q in QUICK_CASES)]
-    wanted = [w for w in a.cases.split(",") if w]
+    wanted = A.names(a.cases)
     if wanted:
         selected = [c for c in selected if any(w in c.name for w in wanted)]
-    repeats = 1 if a.quick else max(1, a.repeats)
-    env = C.environment()
+    repeats = a.repeats
+    env = E.environment()
     settings = (f"{len(selected)} cases; guidewire.solve defaults, max_iter = {MAX_ITER}; {repeats} solve(s) per case; "
                 "each case in a forked child with a wall-clock limit")
     print("\n".join(env + [settings]))
     rows = []
-    with threadpool_limits(limits=1):
+    with E.one_thread():
         guidewire.solve(table1().with_bars(10))  # warm-up: first calls load libraries
-        C.reference(table1())  # cached for the children (forked after this)
+        G.reference(table1())  # cached for the children (forked after this)
         if any(c.b2_factor is not None for c in selected):
             with contextlib.suppress(Exception):  # a failure here is recorded by the case itself
                 feasible_b2(table1())
-        for case in C.progress(selected, desc="cases"):
+        for case in E.progress(selected, desc="cases"):
             timeout = a.timeout or (min(case.timeout, 40.0) if a.quick else case.timeout)
             runs = [run_isolated(case, timeout) for _ in range(repeats)]
             row = runs[-1]
@@ -374,9 +366,9 @@ def main() -> None:
             row["verdict"], row["agrees_with_reference"] = verdict(case, {**_defaults(), **row})
             rows.append({**_defaults(), **row})
             r = rows[-1]
-            print(f"{case.name:62s} {str(r['status']):22s} {r['verdict']:30s} t = {C.cell(r['time_s'], 3)} s  "
-                  f"kkt = {C.cell(r['kkt'], 2)}  viol = {C.cell(r['max_violation'], 2)}  "
-                  f"err = {C.cell(r['mean_error_mm'], 3)} mm  wall {r['wall_s']:.1f} s", flush=True)
+            print(f"{case.name:62s} {str(r['status']):22s} {r['verdict']:30s} t = {T.cell(r['time_s'], 3)} s  "
+                  f"kkt = {T.cell(r['kkt'], 2)}  viol = {T.cell(r['max_violation'], 2)}  "
+                  f"err = {T.cell(r['mean_error_mm'], 3)} mm  wall {r['wall_s']:.1f} s", flush=True)
             if r["verdict"].startswith(("BUG", "FALSE")):
                 print(f"    !! {r['message'][:400]}", flush=True)
     write(rows, a.out, env, settings, quick=a.quick)
@@ -391,9 +383,8 @@ def _defaults() -> dict[str, Any]:
 
 
 def write(rows: list[dict[str, Any]], out: Path, env: list[str], settings: str, *, quick: bool) -> None:
-    out.mkdir(parents=True, exist_ok=True)
-    stem = "stability_quick" if quick else "stability"
-    C.write_csv(rows, out / f"{stem}.csv")
+    stem = T.output_stem(out, "stability", quick)
+    T.write_csv(rows, stem.with_suffix(".csv"))
     counts = {v: sum(r["verdict"].split(" (")[0].split(":")[0] == v for r in rows)
               for v in dict.fromkeys(r["verdict"].split(" (")[0].split(":")[0] for r in rows)}
     lines = [
@@ -410,12 +401,12 @@ def write(rows: list[dict[str, Any]], out: Path, env: list[str], settings: str, 
         "Verdicts: " + ", ".join(f"{k} {v}" for k, v in counts.items()),
         "",
     ]
-    lines += C.markdown_table(
+    lines += T.markdown_table(
         ["case", "n", "scheme", "status", "success", "KKT", "max violation", "energy (N·mm)", "vs continuum",
          "mean error (mm)", "max error (mm)", "agrees", "time (s)", "it", "verdict"],
-        [[r["case"], r["n"], r["scheme"], r["status"], r["success"], C.cell(r["kkt"], 2),
-          C.cell(r["max_violation"], 2), r["energy"], C.cell(r["energy_vs_reference"], 2), r["mean_error_mm"],
-          r["max_error_mm"], r["agrees_with_reference"], C.cell(r["time_s"], 3), r["iterations"], r["verdict"]]
+        [[r["case"], r["n"], r["scheme"], r["status"], r["success"], T.cell(r["kkt"], 2),
+          T.cell(r["max_violation"], 2), r["energy"], T.cell(r["energy_vs_reference"], 2), r["mean_error_mm"],
+          r["max_error_mm"], r["agrees_with_reference"], T.cell(r["time_s"], 3), r["iterations"], r["verdict"]]
          for r in rows],
     )
     lines += ["", "## Notes and messages", ""]
@@ -424,14 +415,14 @@ def write(rows: list[dict[str, Any]], out: Path, env: list[str], settings: str, 
                             r["reference_note"]) if b]
         if bits:
             lines.append(f"- **{r['case']}**: " + " — ".join(str(b)[:600] for b in bits))
-    (out / f"{stem}.md").write_text("\n".join(lines) + "\n")
+    T.write_markdown(lines, stem.with_suffix(".md"))
     print("\n".join(lines))
-    plot(rows, out / f"{stem}.png")
+    plot(rows, stem.with_suffix(".png"))
 
 
 def plot(rows: list[dict[str, Any]], path: Path) -> None:
     """KKT residual and max violation per case (log scale), coloured by verdict."""
-    plt = C.pyplot()
+    plt = T.pyplot()
     if plt is None:
         return
     colors = {"ok": "C2", "honest failure": "C1"}

@@ -2,7 +2,7 @@
 
 The contract it relies on, all in this file:
 
-- ``guidewire.formulation.formulate(scene, *, bars=None, scheme=None, initial_angles=None)`` returns ``form`` with
+- ``guidewire.formulate(scene, *, bars=None, scheme=None, initial_angles=None)`` returns ``form`` with
   ``form.fun``, ``form.jac``, ``form.hess`` (exact objective Hessian), ``form.constraints`` (scipy-style:
   ``LinearConstraint``, ``NonlinearConstraint`` and dicts, the latter with an optional ``"hess"``), ``form.x0``,
   ``form.n`` and ``form.arguments()`` (keys fun, x0, jac, bounds, constraints, hess0) — nothing else of it;
@@ -31,10 +31,9 @@ from _timing import measure
 
 import guidewire
 import sqp
-from guidewire.formulation import formulate
-
-# Moving to guidewire.reference (switch this import at the merge).
-from guidewire.reproduction import continuum_reference, node_errors
+from guidewire import formulate
+from guidewire.feasibility import infeasibility
+from guidewire.reference import continuum_reference, node_errors
 
 #: An answer counts as feasible when no constraint is violated by more than this (mm or rad).
 FEASIBILITY_TOL = 1e-6
@@ -45,8 +44,8 @@ OTHER_BRANCH_RTOL = 1e-3
 
 
 def feasible(scene: guidewire.Scene) -> bool:
-    """Whether nothing obvious forbids a shape (the method is moving to ``guidewire.feasibility.infeasibility``)."""
-    return scene.infeasibility() is None
+    """Whether nothing obvious forbids a shape (:func:`guidewire.feasibility.infeasibility`)."""
+    return infeasibility(scene) is None
 
 
 @dataclass(frozen=True)

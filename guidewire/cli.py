@@ -125,7 +125,9 @@ def _summary(sol: Solution) -> str:
         force = "" if r.force is None else f" force ({r.force[0]:+.4g}, {r.force[1]:+.4g}) N"
         moment = "" if r.moment is None else f" moment {r.moment:+.4g} N·mm"
         lines.append(f"  {r.kind} {r.name} at s = {r.s:g}:{force}{moment}")
-    if sol.scene.walls:
+    if not sol.success:
+        lines.append("  no forces reported: multipliers mean forces only at a converged answer")
+    if sol.scene.walls and sol.wall_forces is not None:
         magnitude = np.hypot(*sol.wall_forces.T)
         lines.append(f"  walls push {magnitude.sum():.4g} N in total on {int((magnitude > 0).sum())} nodes")
     return "\n".join(lines)

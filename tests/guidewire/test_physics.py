@@ -9,8 +9,7 @@ import numpy as np
 import pytest
 
 from guidewire import Base, Contact, Scene, Wire, paper_scenes, solve
-from guidewire.reference import reference_shape
-from guidewire.reproduction import continuum_reference, nearest_shape
+from guidewire.reference import continuum_reference, nearest_shape, reference_shape
 
 SCENES = paper_scenes()
 FEASIBLE = [name for name in SCENES if name != "table5"]

@@ -16,12 +16,13 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.optimize import OptimizeResult
 
+from sqp.build import build_problem
 from sqp.hessian import DENSE_LIMIT, convexify, damped_bfgs_update, initial_scaling
 from sqp.iterate import Derivatives, Evaluator, Point
 from sqp.kkt import KKTResiduals, kkt_residuals, lagrangian_gradient, max_violation
 from sqp.merit import ARMIJO, descent_penalty, directional_derivative, merit, next_step_length, update_penalty
 from sqp.options import Options
-from sqp.problem import Problem, build_problem, format_point
+from sqp.problem import Problem, format_point
 from sqp.report import HEADER, format_row
 from sqp.result import IterationRecord, Result, Status
 from sqp.subproblem import LinearisedRows, QPStep, linearise, solve_subproblem

@@ -294,10 +294,10 @@ def test_multipliers0_warm_start_and_its_shape_check():
 def test_newton_multipliers_undo_the_augmented_lagrangian_term():
     """With ``B = W + rho C^T C`` (``W`` indefinite) the QP solves ``B d + g - J^T lam = 0``; the corrected
     multipliers solve ``W d + g - J^T lam' = 0``: the step's own Newton multipliers, used by the KKT test."""
+    from sqp.build import build_problem
     from sqp.hessian import convexify
     from sqp.iterate import Evaluator
     from sqp.options import Options
-    from sqp.problem import build_problem
     from sqp.solver import _al_rows, _equality_rows, _newton_multipliers, _State, _subproblem
 
     con = {"type": "eq", "fun": lambda x: np.array([x @ x - 2]), "jac": lambda x: 2 * x[None, :],

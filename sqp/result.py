@@ -81,4 +81,6 @@ class Result(OptimizeResult):
         One record per iteration.
     hess : ndarray
         The final quasi-Newton matrix.
+    qp_solver : str
+        The QP backend used (the one ``qp_solver="auto"`` chose, or the one named).
     """

@@ -16,6 +16,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.optimize import OptimizeResult
 
+from sqp.backends import AUTO, auto_choice
 from sqp.build import build_problem
 from sqp.hessian import DENSE_LIMIT, convexify, damped_bfgs_update, initial_scaling
 from sqp.iterate import Derivatives, Evaluator, Point
@@ -50,7 +51,7 @@ def minimize(
     hess: Callable[..., Any] | None = None,
     hess0: Any = None,
     multipliers0: Any = None,
-    qp_solver: str = "daqp",
+    qp_solver: str = "auto",
     qp_options: dict[str, Any] | None = None,
     tol: float = 1e-8,
     max_iter: int = 500,
@@ -89,9 +90,11 @@ def minimize(
         Starting multipliers, one array per constraint (e.g. ``res.constraint_multipliers`` of a neighbouring
         solve): the first exact Lagrangian Hessian and the first merit penalties use them (a warm start).
     qp_solver : str
-        qpsolvers backend for the subproblems: "daqp" (dense active set) by default — measured the most accurate and
-        fastest on the Hock–Schittkowski subproblems (see ``benchmarks/results/hock_schittkowski.md``); "osqp" (with
-        SQP-grade accuracy settings, warm-started) or any other installed backend by name.
+        qpsolvers backend for the subproblems, or "auto" (default): chosen once from the problem's structure —
+        "daqp" (dense active set) up to :data:`~sqp.DENSE_LIMIT` (300) variables, above it "piqp" when every
+        constraint Jacobian is sparse and "clarabel" when some rows are dense (the rule, its measurements and why
+        OSQP is not the default: :class:`sqp.Options`). Any installed backend by name (:func:`sqp.installed_solvers`)
+        is used exactly as given. The backend used is ``res.qp_solver``.
     qp_options : dict, optional
         Backend settings merged over the engine's accurate defaults.
     tol : float
@@ -107,7 +110,8 @@ def minimize(
     -------
     Result
         An ``OptimizeResult`` with ``x, fun, jac, success, status, message, nit, nfev, njev, maxcv`` plus
-        ``constraint_multipliers``, ``bound_multipliers``, ``multipliers``, ``kkt``, ``history`` and ``hess``.
+        ``constraint_multipliers``, ``bound_multipliers``, ``multipliers``, ``kkt``, ``history``, ``hess`` and
+        ``qp_solver`` (the backend used).
         ``success`` is True only for SUCCESS and ACCEPTABLE; every other :class:`~sqp.Status` says why the solve
         ended: NaN or inf that persists down to the shortest trial step, or at the start, is NONFINITE (the message
         names the function and the iteration); a locally infeasible problem is INFEASIBLE (the message gives the
@@ -194,7 +198,17 @@ class _State:
 
 
 def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array | None = None) -> Result:
-    """Run the SQP iteration on a validated problem."""
+    """Run the SQP iteration on a validated problem, with ``qp_solver="auto"`` resolved for it first."""
+    why = auto_choice(problem.n, problem.sparse_jacobians)[1] if options.qp_solver == AUTO else ""
+    options = options.for_problem(problem)
+    if options.verbose:
+        print(f"sqp: {problem.n} variables, qp_solver = {options.qp_solver}" + (f" (auto: {why})" if why else ""))
+    res = _iterate(problem, options, B0, lam0)
+    res.qp_solver = options.qp_solver
+    return res
+
+
+def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array | None) -> Result:
     t_start = time.perf_counter()
     ev = Evaluator(problem)
     history: list[IterationRecord] = []

@@ -7,10 +7,11 @@ import pytest
 from scipy.optimize import BFGS, Bounds, LinearConstraint, NonlinearConstraint
 
 import sqp
+from sqp.backends import DEFAULT_QP_OPTIONS
 from sqp.hessian import damped_bfgs_update
 from sqp.merit import directional_derivative, merit
 from sqp.problem import Rows
-from sqp.subproblem import DEFAULT_QP_OPTIONS, linearise, solve_subproblem
+from sqp.subproblem import linearise, solve_subproblem
 
 
 def test_damped_bfgs_matches_scipy_damp_update():
@@ -314,7 +315,7 @@ def test_newton_multipliers_undo_the_augmented_lagrangian_term():
     B, delta, rho = convexify(W, 0.0, _equality_rows(problem, der.J, rows), 0.0)
     assert delta == 0.0 and rho > 0.0
     st = _State(pt=pt, der=der, B=B, mu=np.zeros(1))
-    qp, _ = _subproblem(problem, Options(), st, 0.0)
+    qp, _ = _subproblem(problem, Options().for_problem(problem), st, 0.0)
     assert qp.found and not qp.elastic
     np.testing.assert_allclose(B @ qp.d + der.g - der.J.T @ qp.lam_nl, 0.0, atol=1e-10)
     fixed = _newton_multipliers(problem, st, qp, rows, rho)

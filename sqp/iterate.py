@@ -12,6 +12,7 @@ from numpy.typing import NDArray
 from sqp.derivatives import forward_difference
 from sqp.hessian import DENSE_LIMIT
 from sqp.problem import NonlinearBlock, Problem, call_user, check_jacobian_shape
+from sqp.subproblem import QPStep
 
 Array = NDArray[np.float64]
 
@@ -180,3 +181,14 @@ class Evaluator:
         if self.hessian_nonfinite is None and not np.all(np.isfinite(data)):
             self.hessian_nonfinite = name
         return H
+
+
+@dataclass
+class State:
+    """The handful of values carried from one iteration to the next."""
+
+    pt: Point
+    der: Derivatives
+    B: Array
+    mu: Array
+    qp: QPStep | None = None

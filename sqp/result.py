@@ -114,6 +114,8 @@ def build_result(
     nit: int = 0,
     detail: str = "",
 ) -> Result:
+    """The :class:`Result` of a solve that ended with ``status`` at ``pt`` (None: before the start was evaluated,
+    at ``x``), with the multipliers of ``qp`` and the KKT residuals there."""
     n = problem.n
     if pt is None:
         xx = problem.x0.copy() if x is None else x

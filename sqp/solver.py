@@ -180,11 +180,11 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
     pt = ev.point(x)
     if not pt.finite:
         return build_result(problem, ev, pt, None, None, Status.NONFINITE, history, t_start,
-                       detail=_nonfinite_detail(ev, pt, None, "at the start point"))
+                            detail=_nonfinite_detail(ev, pt, None, "at the start point"))
     der = ev.derivatives(pt)
     if not der.finite:
         return build_result(problem, ev, pt, der, None, Status.NONFINITE, history, t_start,
-                       detail=_nonfinite_detail(ev, pt, der, "at the start point"))
+                            detail=_nonfinite_detail(ev, pt, der, "at the start point"))
     exact = problem.hess is not None
     scaled_start = B0 is None and not exact
     shift = al_weight = 0.0
@@ -192,7 +192,7 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
     B_start = sp.identity(problem.n, format="csc") if exact else (
         np.eye(problem.n) if B0 is None or sp.issparse(B0) else B0.copy())
     st = State(pt=pt, der=der, B=B_start,
-                mu=np.zeros(problem.nonlinear.lb.size) if lam0 is None else np.abs(lam0))
+               mu=np.zeros(problem.nonlinear.lb.size) if lam0 is None else np.abs(lam0))
     if options.verbose:
         print(HEADER)
     status = Status.MAX_ITER

@@ -22,6 +22,8 @@ MAX_ELASTIC_PENALTY = 1e10
 
 
 def linearised(problem: Problem, st: State, c: Array | None = None) -> tuple[LinearisedRows, LinearisedRows]:
+    """The nonlinear rows linearised at ``st`` (with the values ``c`` instead of ``st.pt.c`` when given) and the
+    linear rows, as QP rows in the step ``d``."""
     nl = linearise(st.der.J, st.pt.c if c is None else c, problem.nonlinear)
     lin = linearise(problem.A, st.pt.r, problem.linear)
     return nl, lin
@@ -81,4 +83,5 @@ def second_order_correction(
 
 
 def trial_point(problem: Problem, ev: Evaluator, x: Array, step: Array) -> Point:
+    """``x + step`` clipped into the bounds (rounding only: the QP keeps the bounds), evaluated."""
     return ev.point(np.clip(x + step, problem.lower, problem.upper))

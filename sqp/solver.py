@@ -1,7 +1,11 @@
 """The SQP loop (paper §2.2) and the scipy-style front door :func:`minimize`.
 
 One iteration: solve the QP (Eqs. 9–10; elastic if inconsistent) → test the KKT residuals → update the penalties
-(Eq. 13) → backtrack on the L1 merit function (Eq. 12), with a second-order correction → damped BFGS (Eq. 6).
+(Eq. 13) → backtrack on the L1 merit function (Eq. 12), with a second-order correction → damped BFGS (Eq. 6) →
+record. The pieces live in modules named for them: :mod:`sqp.start` (start point, ``hess0``), :mod:`sqp.step` (the QP
+at the iterate, :mod:`sqp.subproblem` solving it), :mod:`sqp.kkt`, :mod:`sqp.merit` (Eqs. 12–13),
+:mod:`sqp.linesearch`, :mod:`sqp.hessian` (Eq. 6, or an exact Hessian made positive definite) and
+:mod:`sqp.multipliers` (the estimates around the QP); :mod:`sqp.backends` chooses the QP backend.
 """
 
 from __future__ import annotations
@@ -240,11 +244,7 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
             status = Status.INFEASIBLE  # no step reduces the linearised violation: a stationary point of it
             break
         # the penalties (Eq. 13) and the merit line search (Eq. 12)
-        st.mu = update_penalty(st.mu, qp.lam_nl)
-        if st.mu.size:
-            rows = problem.nonlinear
-            dv = float(np.sum(rows.violation(st.pt.c)) - np.sum(rows.violation(st.pt.c + st.der.J @ d)))
-            st.mu = np.maximum(st.mu, descent_penalty(float(st.der.g @ d), float(d @ (st.B @ d)), dv))
+        st.mu = _penalties(problem, st, qp)
         search = line_search(problem, options, ev, st, d)
         if search.pt is None and np.max(st.mu, initial=0.0) > 10.0 * max(
                 float(np.max(np.abs(qp.lam_nl), initial=0.0)), 1e-12):
@@ -278,11 +278,9 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
         s = new_pt.x - st.pt.x
         damped = False
         if not exact:
-            y = nonlinear_lagrangian_gradient(problem, new_der, qp) - nonlinear_lagrangian_gradient(problem, st.der, qp)
-            if scaled_start and nit == 0:
-                st.B = st.B * initial_scaling(s, y)
-            st.B, damped = damped_bfgs_update(st.B, s, y)
+            st.B, damped = _bfgs(problem, st, new_der, qp, s, scale=scaled_start and nit == 0)
         st.pt, st.der = new_pt, new_der
+        # record the iteration (history, verbose table, callback)
         rec = IterationRecord(
             nit=nit + 1, nfev=ev.nfev, f=new_pt.f, maxcv=max_violation(problem, new_pt.x, new_pt.c, new_pt.r),
             kkt=kkt.worst, step=float(np.max(np.abs(s), initial=0.0)), alpha=alpha,
@@ -314,7 +312,26 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
     if status is Status.INFEASIBLE:
         detail = f"Least violation reached: {least[0]:.2e} at x = {format_point(least[1])}."
     return build_result(problem, ev, st.pt, st.der, st.qp, status, history, t_start, B=st.B, nit=len(history),
-                   detail=detail)
+                        detail=detail)
+
+
+def _penalties(problem: Problem, st: State, qp: QPStep) -> Array:
+    """Powell's update of the merit penalties (Eq. 13), raised where needed to make the step ``qp.d`` a descent
+    direction of the merit function (:func:`~sqp.merit.descent_penalty`)."""
+    mu = update_penalty(st.mu, qp.lam_nl)
+    if mu.size:
+        d, rows = qp.d, problem.nonlinear
+        dv = float(np.sum(rows.violation(st.pt.c)) - np.sum(rows.violation(st.pt.c + st.der.J @ d)))
+        mu = np.maximum(mu, descent_penalty(float(st.der.g @ d), float(d @ (st.B @ d)), dv))
+    return mu
+
+
+def _bfgs(problem: Problem, st: State, new_der: Derivatives, qp: QPStep, s: Array, scale: bool) -> tuple[Array, bool]:
+    """The damped BFGS update (Eq. 6) of ``st.B`` for the step ``s``, with ``y`` the change of the Lagrangian
+    gradient at the QP's multipliers; the identity start is rescaled first (Shanno–Phua) when ``scale``."""
+    y = nonlinear_lagrangian_gradient(problem, new_der, qp) - nonlinear_lagrangian_gradient(problem, st.der, qp)
+    B = st.B * initial_scaling(s, y) if scale else st.B
+    return damped_bfgs_update(B, s, y)
 
 
 def _nonfinite_detail(ev: Evaluator, pt: Point, der: Derivatives | None, where: str) -> str:

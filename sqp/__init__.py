@@ -7,9 +7,14 @@
 True
 """
 
+from sqp.backends import installed_solvers
+from sqp.hessian import DENSE_LIMIT
+from sqp.options import Options
 from sqp.problem import StartPointWarning
 from sqp.result import IterationRecord, Result, Status
 from sqp.solver import minimize
-from sqp.subproblem import installed_solvers
 
-__all__ = ["IterationRecord", "Result", "StartPointWarning", "Status", "installed_solvers", "minimize"]
+__all__ = [
+    "DENSE_LIMIT", "IterationRecord", "Options", "Result", "StartPointWarning", "Status", "installed_solvers",
+    "minimize",
+]

@@ -12,6 +12,7 @@ from numpy.typing import NDArray
 from sqp.derivatives import forward_difference
 from sqp.hessian import DENSE_LIMIT
 from sqp.problem import NonlinearBlock, Problem, call_user, check_jacobian_shape
+from sqp.subproblem import QPStep
 
 Array = NDArray[np.float64]
 
@@ -150,10 +151,11 @@ class Evaluator:
         self.nhev += 1
         n = x.size
         self.hessian_nonfinite = None
+        # dense up to DENSE_LIMIT variables (cheaper than scipy.sparse's per-call overhead), sparse CSC above, whatever
+        # format each Hessian comes in
+        dense = n <= DENSE_LIMIT
         H = self._hessian("hess", call_user("hess", p.hess, x, self.where), n)
-        if sp.issparse(H) and H.shape[0] <= DENSE_LIMIT:
-            H = H.toarray()  # small: dense arithmetic is cheaper than scipy.sparse's per-call overhead
-        W = H.tocsc() if sp.issparse(H) else np.array(H, dtype=float)
+        W = _as_format(H, dense)
         start = 0
         for block in p.blocks:
             v = lam_nl[start : start + block.size]
@@ -162,10 +164,7 @@ class Evaluator:
                 continue
             assert block.hess is not None
             name = block.part("hess")
-            Hc = self._hessian(name, call_user(name, block.hess, x, self.where, v), n)
-            if sp.issparse(Hc) and not sp.issparse(W):
-                Hc = Hc.toarray()
-            W = W - (Hc if sp.issparse(Hc) else np.asarray(Hc, dtype=float))
+            W = W - _as_format(self._hessian(name, call_user(name, block.hess, x, self.where, v), n), dense)
         if sp.issparse(W):
             return sp.csc_matrix(W)
         return np.asarray(W)
@@ -180,3 +179,21 @@ class Evaluator:
         if self.hessian_nonfinite is None and not np.all(np.isfinite(data)):
             self.hessian_nonfinite = name
         return H
+
+
+def _as_format(H: Any, dense: bool) -> Any:
+    """``H`` as a float ndarray (``dense``) or a CSC matrix."""
+    if dense:
+        return H.toarray() if sp.issparse(H) else np.array(H, dtype=float)
+    return sp.csc_matrix(H, dtype=float)
+
+
+@dataclass
+class State:
+    """The handful of values carried from one iteration to the next."""
+
+    pt: Point
+    der: Derivatives
+    B: Array
+    mu: Array
+    qp: QPStep | None = None

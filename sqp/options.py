@@ -3,15 +3,18 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
-from typing import Any
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Any
 
-from sqp.subproblem import DEFAULT_QP_OPTIONS, check_solver_name, installed_solvers
+from sqp.backends import AUTO, DEFAULT_QP_OPTIONS, auto_choice, check_solver_name, installed_solvers
+
+if TYPE_CHECKING:
+    from sqp.problem import Problem
 
 
 @dataclass(frozen=True)
 class Options:
-    """Settings of one solve.
+    """Settings of one solve (:func:`sqp.minimize` builds one from its keyword arguments).
 
     Attributes
     ----------
@@ -21,24 +24,50 @@ class Options:
     max_iter : int
         Maximum number of SQP iterations.
     qp_solver : str
-        qpsolvers backend for the subproblems. Default "daqp" (dense active set): on the Hock–Schittkowski
-        subproblems it was both the most accurate and the fastest installed backend (benchmarks/results).
+        qpsolvers backend for the subproblems, or ``"auto"`` (the default): chosen once per solve, after the problem
+        is built, from its structure (:func:`sqp.backends.choose_qp_solver`), and reported as ``Result.qp_solver``
+        and in the verbose header. The rule, with ``n`` variables:
+
+        - ``n <=`` :data:`sqp.DENSE_LIMIT` (300), where the engine works densely: ``"daqp"`` (dense dual active
+          set). On the Hock–Schittkowski subproblems it was both the most accurate installed backend (exact active
+          sets and multipliers) and the fastest (``benchmarks/results/hock_schittkowski.md``).
+        - larger, with every constraint Jacobian sparse (each nonlinear ``jac`` at ``x0`` and each
+          ``LinearConstraint.A`` a scipy.sparse matrix): ``"piqp"`` (sparse interior point), 10-20 ms per
+          subproblem on a sparse full-space program with 1600 bars (4800 variables), where Clarabel took 50 ms and
+          OSQP did not converge.
+        - larger, with some dense Jacobian rows: ``"clarabel"`` (sparse interior point), the backend measured best
+          for large problems with dense rows.
+
+        A backend the rule picks but that is not installed is replaced by the first installed one of
+        ``daqp, piqp, clarabel, osqp, quadprog, proxqp`` (:data:`sqp.backends.PREFERENCE`).
+
+        Any installed backend can be named instead (:func:`sqp.installed_solvers`); a name is used exactly as
+        given. ``"osqp"`` (the backend first named for the project) runs with SQP-grade accuracy settings,
+        warm-started and polished, but is not the default: an ADMM method, its multipliers are sometimes too
+        inexact for the merit and BFGS updates even at eps 1e-9 (113 Hock–Schittkowski problems solved against
+        DAQP's 115, and 2.8x slower), and on the large sparse program it did not converge in 4000 iterations.
     qp_options : dict
-        Backend settings, merged over :data:`sqp.subproblem.DEFAULT_QP_OPTIONS`.
+        Backend settings, merged over :data:`sqp.backends.DEFAULT_QP_OPTIONS` of the backend used.
     callback : callable or None
         ``callback(intermediate_result)`` after every iteration; raising ``StopIteration`` ends the solve.
     verbose : bool
-        Print the iteration table.
+        Print the backend used and the iteration table.
     second_order_correction : bool
         Try a second-order correction when the full step is rejected (the Maratos-effect remedy).
     qp_fallbacks : tuple of str
         Backends asked, in order, when ``qp_solver`` fails a subproblem even after its retries (skipped when not
         installed). The iteration table marks such a step ``opt[name]``. ``()`` disables the fallback.
+
+    Raises
+    ------
+    TypeError, ValueError
+        On construction, naming the field and the fix (an unknown ``qp_solver`` lists ``"auto"`` and the installed
+        backends).
     """
 
     tol: float = 1e-8
     max_iter: int = 500
-    qp_solver: str = "daqp"
+    qp_solver: str = AUTO
     qp_options: dict[str, Any] = field(default_factory=dict)
     callback: Callable[[Any], Any] | None = None
     verbose: bool = False
@@ -51,12 +80,19 @@ class Options:
         if isinstance(self.max_iter, bool) or not isinstance(self.max_iter, int) or self.max_iter < 0:
             raise ValueError(f"max_iter = {self.max_iter!r}; expected a nonnegative integer.")
         if not isinstance(self.qp_solver, str):
-            raise TypeError(f"qp_solver must be a backend name (str); got {type(self.qp_solver).__name__}.")
+            raise TypeError(f"qp_solver must be a backend name (str) or 'auto'; got {type(self.qp_solver).__name__}.")
         check_solver_name(self.qp_solver)
         if not isinstance(self.qp_options, dict):
             raise TypeError(f"qp_options must be a dict of backend settings; got {type(self.qp_options).__name__}.")
         if self.callback is not None and not callable(self.callback):
             raise TypeError("callback must be callable: callback(intermediate_result).")
+
+    def for_problem(self, problem: Problem) -> Options:
+        """These options with ``qp_solver="auto"`` replaced by the backend chosen for ``problem`` (unchanged when a
+        backend is named)."""
+        if self.qp_solver != AUTO:
+            return self
+        return replace(self, qp_solver=auto_choice(problem.n, problem.sparse_jacobians)[0])
 
     @property
     def backend_options(self) -> dict[str, Any]:
@@ -66,6 +102,8 @@ class Options:
     @property
     def backends(self) -> list[tuple[str, dict[str, Any]]]:
         """The chosen backend with its settings, then the installed fallbacks with theirs."""
+        if self.qp_solver == AUTO:
+            raise ValueError("qp_solver='auto' names no backend yet; use options.for_problem(problem).backends.")
         out = [(self.qp_solver, self.backend_options)]
         for name in self.qp_fallbacks:
             if name != self.qp_solver and name in installed_solvers():

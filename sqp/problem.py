@@ -1,4 +1,4 @@
-"""The problem as the engine sees it: bounds, linear rows and nonlinear rows, checked before any work.
+"""The problem as the engine sees it: bounds, linear rows and nonlinear rows (built and checked by :mod:`sqp.build`).
 
 Every user constraint (an SLSQP dict, a ``NonlinearConstraint`` or a ``LinearConstraint``) becomes a block of rows
 ``lb <= c(x) <= ub``; rows with ``lb == ub`` are equalities. The engine works with the stacked rows and maps the
@@ -7,7 +7,6 @@ multipliers back to the user's blocks at the end (:meth:`Problem.split_multiplie
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
@@ -16,12 +15,8 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
-from scipy.optimize import Bounds, LinearConstraint, NonlinearConstraint
 
 Array = NDArray[np.float64]
-
-#: A start this close to a bound (relative to ``max(1, |bound|)``) is rounding, and is clipped without a warning.
-START_ROUNDING = 1e-12
 
 
 class StartPointWarning(UserWarning):
@@ -42,9 +37,6 @@ def call_user(name: str, fn: Callable[..., Any], x: Array, where: str, *extra: A
         exc.add_note(f"sqp.minimize: raised by {name} at {where} (x = {format_point(x)}).")
         raise
 
-
-#: ``where`` of the evaluations made while the input is checked.
-AT_START = "iteration 0 (the start point)"
 
 
 @dataclass(frozen=True)
@@ -125,6 +117,10 @@ class Problem:
         Nonlinear user constraints in the order given; their rows stack into ``nonlinear``.
     kinds : tuple of str
         For every user constraint, ``"linear"`` or ``"nonlinear"``, in the order given.
+    sparse_jacobians : bool
+        Whether every constraint Jacobian is a scipy.sparse matrix: each nonlinear constraint's ``jac`` at ``x0`` (a
+        finite-difference one is dense) and each ``LinearConstraint.A``. True without constraints. Read once, by
+        ``qp_solver="auto"`` (:func:`sqp.backends.choose_qp_solver`).
     """
 
     fun: Callable[[Array], Any]
@@ -139,6 +135,7 @@ class Problem:
     kinds: tuple[str, ...]
     linear_sizes: tuple[int, ...]
     hess: Callable[[Array], Any] | None = None
+    sparse_jacobians: bool = True
 
     @property
     def n(self) -> int:
@@ -186,250 +183,6 @@ class Problem:
                 i_nl += m
                 k_nl += 1
         return out
-
-
-def _as_vector(value: Any, m: int, name: str) -> Array:
-    arr = np.asarray(value, dtype=float)
-    if arr.ndim == 0:
-        arr = np.full(m, float(arr))
-    if arr.shape != (m,):
-        raise ValueError(f"{name} has shape {arr.shape}; expected ({m},) or a scalar.")
-    return arr
-
-
-def _check_x0(x0: Any) -> Array:
-    try:
-        x = np.array(x0, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"x0 must be a 1-D array of numbers; got {type(x0).__name__}.") from exc
-    if x.ndim != 1 or x.size == 0:
-        raise ValueError(f"x0 has shape {x.shape}; expected a non-empty 1-D array (n,). Pass one value per variable.")
-    if not np.all(np.isfinite(x)):
-        raise ValueError(f"x0 has non-finite entries at indices {np.flatnonzero(~np.isfinite(x)).tolist()}; "
-                         "start from finite values.")
-    return x
-
-
-def _check_bounds(bounds: Any, n: int) -> tuple[Array, Array]:
-    if bounds is None:
-        return np.full(n, -np.inf), np.full(n, np.inf)
-    if isinstance(bounds, Bounds):
-        lo = _as_vector(bounds.lb, n, "bounds.lb")
-        hi = _as_vector(bounds.ub, n, "bounds.ub")
-    else:
-        try:
-            pairs = list(bounds)
-        except TypeError:
-            raise TypeError("bounds must be scipy.optimize.Bounds or a sequence of (lo, hi) pairs.") from None
-        if len(pairs) != n:
-            raise ValueError(f"bounds has {len(pairs)} pairs; expected {n} (one (lo, hi) per variable, "
-                             "None for an unbounded side).")
-        lo = np.empty(n)
-        hi = np.empty(n)
-        for i, pair in enumerate(pairs):
-            try:
-                a, b = pair
-            except (TypeError, ValueError):
-                raise ValueError(f"bounds[{i}] = {pair!r} is not a (lo, hi) pair.") from None
-            lo[i] = -np.inf if a is None else float(a)
-            hi[i] = np.inf if b is None else float(b)
-    if np.any(np.isnan(lo)) or np.any(np.isnan(hi)):
-        raise ValueError("bounds contain NaN; use None or +-inf for an unbounded side.")
-    bad = np.flatnonzero(lo > hi)
-    if bad.size:
-        i = int(bad[0])
-        raise ValueError(f"bounds[{i}] has lo = {lo[i]} > hi = {hi[i]}; every lower bound must be <= its upper bound.")
-    return lo, hi
-
-
-def _start_values(name: str, fun: Callable[[Array], Any], x0: Array) -> Array:
-    """A constraint function's values at the start: it must return a scalar or a 1-D array."""
-    arr = np.asarray(call_user(name, fun, x0, AT_START), dtype=float)
-    if arr.ndim > 1:
-        raise ValueError(f"{name} returned an array of shape {arr.shape} at x0; a constraint function must return a "
-                         "scalar or a 1-D array (m,).")
-    return np.atleast_1d(arr)
-
-
-def _constraint_side(value: Any, m: int, side: str, con_name: str, fun_name: str) -> Array:
-    """``lb`` or ``ub`` of a NonlinearConstraint: a scalar or one entry per value its fun returns."""
-    arr = np.asarray(value, dtype=float)
-    if arr.ndim == 0:
-        return np.full(m, float(arr))
-    if arr.shape != (m,):
-        raise ValueError(f"{fun_name} returned {m} value(s) at x0 but {con_name}.{side} has {arr.size} (shape "
-                         f"{arr.shape}); give lb and ub as scalars or with one entry per value of fun.")
-    return arr
-
-
-def _dict_block(con: dict[str, Any], i: int, x0: Array) -> NonlinearBlock:
-    kind = con.get("type")
-    if kind not in ("eq", "ineq"):
-        raise ValueError(f"constraints[{i}]['type'] = {kind!r}; expected 'eq' or 'ineq' ('ineq' means fun(x) >= 0).")
-    fun = con.get("fun")
-    if not callable(fun):
-        raise TypeError(f"constraints[{i}]['fun'] must be callable.")
-    args = tuple(con.get("args", ()))
-    f = (lambda x, _f=fun, _a=args: _f(x, *_a)) if args else fun
-    jac = con.get("jac")
-    if jac is not None and not callable(jac):
-        if jac in ("2-point", "3-point", "cs"):
-            jac = None
-        else:
-            raise TypeError(f"constraints[{i}]['jac'] must be callable or None.")
-    j = (lambda x, _j=jac, _a=args: _j(x, *_a)) if (args and jac is not None) else jac
-    hess = con.get("hess")
-    if hess is not None and not callable(hess):
-        raise TypeError(f"constraints[{i}]['hess'] must be callable: hess(x, v) = sum_i v_i * Hessian of row i.")
-    m = _start_values(f"constraints[{i}]['fun']", f, x0).size
-    lb = np.zeros(m)
-    ub = np.zeros(m) if kind == "eq" else np.full(m, np.inf)
-    return NonlinearBlock(fun=f, jac=j, lb=lb, ub=ub, hess=hess, name=f"constraints[{i}]", dict_style=True)
-
-
-def _nonlinear_object_block(con: NonlinearConstraint, i: int, x0: Array) -> NonlinearBlock:
-    name = f"constraints[{i}]"
-    m = _start_values(f"{name}.fun", con.fun, x0).size
-    jac = con.jac if callable(con.jac) else None
-    lb = _constraint_side(con.lb, m, "lb", name, f"{name}.fun")
-    ub = _constraint_side(con.ub, m, "ub", name, f"{name}.fun")
-    if np.any(lb > ub):
-        raise ValueError(f"constraints[{i}] has lb > ub in rows {np.flatnonzero(lb > ub).tolist()}.")
-    hess = con.hess if callable(con.hess) else None
-    return NonlinearBlock(fun=con.fun, jac=jac, lb=lb, ub=ub, hess=hess, name=name, dict_style=False)
-
-
-def _project_start(x: Array, lower: Array, upper: Array) -> Array:
-    """``x0`` clipped into the bounds, with a :class:`StartPointWarning` when it was genuinely outside them (a start
-    within rounding of a bound, :data:`START_ROUNDING`, is clipped silently)."""
-    xs = np.clip(x, lower, upper)
-    outside = np.flatnonzero(np.abs(xs - x) > START_ROUNDING * np.maximum(1.0, np.abs(xs)))  # xs: the bound
-    if outside.size:
-        shown = ", ".join(f"x0[{i}] = {x[i]:.6g} not in [{lower[i]:.6g}, {upper[i]:.6g}]" for i in outside[:3])
-        more = f" and {outside.size - 3} more" if outside.size > 3 else ""
-        indices = outside[:5].tolist()
-        warnings.warn(f"x0 is outside the bounds at indices {indices}{'...' if outside.size > 5 else ''} ({shown}"
-                      f"{more}); it was projected onto the bounds (clipped) and the solve starts from there.",
-                      StartPointWarning, stacklevel=4)
-    return xs
-
-
-def build_problem(
-    fun: Callable[..., Any],
-    x0: Any,
-    jac: Any,
-    bounds: Any,
-    constraints: Any,
-    args: tuple[Any, ...] = (),
-    hess: Any = None,
-) -> Problem:
-    """Validate the user's input and stack it into a :class:`Problem` (raises before any solve).
-
-    Raises
-    ------
-    TypeError, ValueError
-        Naming the argument at fault and how to fix it.
-    """
-    if not callable(fun):
-        raise TypeError("fun must be callable: fun(x) -> float.")
-    x = _check_x0(x0)
-    n = x.size
-    f = (lambda z: fun(z, *args)) if args else fun
-    if jac is True:
-        raise ValueError("jac=True (fun returning (f, g)) is not supported; pass the gradient as a callable.")
-    if jac is None or (isinstance(jac, str) and jac in ("2-point", "3-point", "cs")):
-        grad = None
-    elif callable(jac):
-        grad = (lambda z: jac(z, *args)) if args else jac
-    else:
-        raise TypeError(f"jac must be callable, None or '2-point'; got {jac!r}.")
-    lower, upper = _check_bounds(bounds, n)
-    xs = _project_start(x, lower, upper)
-
-    if isinstance(constraints, dict | LinearConstraint | NonlinearConstraint):
-        constraints = (constraints,)
-    blocks: list[NonlinearBlock] = []
-    lin_A: list[Any] = []
-    lin_lb: list[Array] = []
-    lin_ub: list[Array] = []
-    kinds: list[str] = []
-    for i, con in enumerate(constraints or ()):
-        if isinstance(con, LinearConstraint):
-            A = con.A
-            A = A if sp.issparse(A) else np.atleast_2d(np.asarray(A, dtype=float))
-            if A.shape[1] != n:
-                raise ValueError(f"constraints[{i}] (LinearConstraint) has A with {A.shape[1]} columns; expected {n}.")
-            m = A.shape[0]
-            lb = _as_vector(con.lb, m, f"constraints[{i}].lb")
-            ub = _as_vector(con.ub, m, f"constraints[{i}].ub")
-            if np.any(lb > ub):
-                raise ValueError(f"constraints[{i}] has lb > ub in rows {np.flatnonzero(lb > ub).tolist()}.")
-            lin_A.append(A)
-            lin_lb.append(lb)
-            lin_ub.append(ub)
-            kinds.append("linear")
-        elif isinstance(con, NonlinearConstraint):
-            blocks.append(_nonlinear_object_block(con, i, xs))
-            kinds.append("nonlinear")
-        elif isinstance(con, dict):
-            blocks.append(_dict_block(con, i, xs))
-            kinds.append("nonlinear")
-        else:
-            raise TypeError(f"constraints[{i}] is a {type(con).__name__}; expected a dict "
-                            "{'type': 'eq'|'ineq', 'fun': ..., 'jac': ...}, "
-                            "a NonlinearConstraint or a LinearConstraint.")
-    if lin_A:
-        if any(sp.issparse(a) for a in lin_A):
-            A_all = sp.vstack([sp.csr_matrix(a) for a in lin_A], format="csr")
-        else:
-            A_all = np.vstack(lin_A)
-        linear = Rows.from_bounds(np.concatenate(lin_lb), np.concatenate(lin_ub))
-    else:
-        A_all = np.zeros((0, n))
-        linear = Rows.from_bounds(np.zeros(0), np.zeros(0))
-    nl_lb = np.concatenate([b.lb for b in blocks]) if blocks else np.zeros(0)
-    nl_ub = np.concatenate([b.ub for b in blocks]) if blocks else np.zeros(0)
-    if hess is not None:
-        if not callable(hess):
-            raise TypeError("hess must be callable: hess(x) -> (n, n) Hessian of fun (array or sparse matrix).")
-        missing = [i for i, b in enumerate(blocks) if b.hess is None]
-        if missing:
-            raise ValueError(f"hess is given but nonlinear constraint block(s) {missing} have no Hessian; give each a "
-                             "'hess' (dict key or NonlinearConstraint.hess) as hess(x, v), or drop hess to use BFGS.")
-        hess_f = (lambda z: hess(z, *args)) if args else hess
-    else:
-        hess_f = None
-    problem = Problem(
-        fun=f,
-        grad=grad,
-        x0=xs,
-        lower=lower,
-        upper=upper,
-        A=A_all,
-        linear=linear,
-        blocks=tuple(blocks),
-        nonlinear=Rows.from_bounds(nl_lb, nl_ub),
-        kinds=tuple(kinds),
-        linear_sizes=tuple(a.shape[0] for a in lin_A),
-        hess=hess_f,
-    )
-    _check_shapes(problem, xs)
-    return problem
-
-
-def _check_shapes(problem: Problem, x: Array) -> None:
-    """Evaluate once at the (projected) start to catch non-scalar objectives and wrong Jacobian shapes early."""
-    n = problem.n
-    f = np.asarray(call_user("fun", problem.fun, x, AT_START))
-    if f.size != 1:
-        raise ValueError(f"fun returned an array of shape {f.shape}; it must return a scalar (the objective value).")
-    if problem.grad is not None:
-        g = np.asarray(call_user("jac", problem.grad, x, AT_START), dtype=float)
-        if g.shape != (n,):
-            raise ValueError(f"jac returned shape {g.shape}; expected ({n},): the gradient of fun.")
-    for block in problem.blocks:
-        if block.jac is not None:
-            check_jacobian_shape(block, call_user(block.part("jac"), block.jac, x, AT_START), n, "x0")
 
 
 def check_jacobian_shape(block: NonlinearBlock, J: Any, n: int, where: str) -> Any:

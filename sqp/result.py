@@ -2,10 +2,23 @@
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 from enum import Enum
+from typing import TYPE_CHECKING
 
+import numpy as np
+from numpy.typing import NDArray
 from scipy.optimize import OptimizeResult
+
+from sqp.kkt import kkt_residuals, max_violation
+
+if TYPE_CHECKING:
+    from sqp.iterate import Derivatives, Evaluator, Point
+    from sqp.problem import Problem
+    from sqp.subproblem import QPStep
+
+Array = NDArray[np.float64]
 
 
 class Status(Enum):
@@ -81,4 +94,61 @@ class Result(OptimizeResult):
         One record per iteration.
     hess : ndarray
         The final quasi-Newton matrix.
+    qp_solver : str
+        The QP backend used (the one ``qp_solver="auto"`` chose, or the one named).
     """
+
+
+def build_result(
+    problem: Problem,
+    ev: Evaluator,
+    pt: Point | None,
+    der: Derivatives | None,
+    qp: QPStep | None,
+    status: Status,
+    history: list[IterationRecord],
+    t_start: float,
+    *,
+    x: Array | None = None,
+    B: Array | None = None,
+    nit: int = 0,
+    detail: str = "",
+) -> Result:
+    """The :class:`Result` of a solve that ended with ``status`` at ``pt`` (None: before the start was evaluated,
+    at ``x``), with the multipliers of ``qp`` and the KKT residuals there."""
+    n = problem.n
+    if pt is None:
+        xx = problem.x0.copy() if x is None else x
+        f, c, r = np.nan, np.full(problem.nonlinear.lb.size, np.nan), problem.A @ xx
+    else:
+        xx, f, c, r = pt.x, pt.f, pt.c, pt.r
+    lam_nl = qp.lam_nl if qp is not None else np.zeros(problem.nonlinear.lb.size)
+    lam_lin = qp.lam_lin if qp is not None else np.zeros(problem.linear.lb.size)
+    z = qp.z if qp is not None else np.zeros(n)
+    g = der.g if der is not None else np.full(n, np.nan)
+    if der is not None:
+        kkt = kkt_residuals(problem, xx, g, c, der.J, r, lam_nl, lam_lin, z)
+        kkt_dict = {"stationarity": kkt.stationarity, "feasibility": kkt.feasibility,
+                    "complementarity": kkt.complementarity}
+    else:
+        kkt_dict = {"stationarity": np.nan, "feasibility": np.nan, "complementarity": np.nan}
+    maxcv = max_violation(problem, xx, c, np.asarray(r).ravel()) if np.all(np.isfinite(c)) else np.inf
+    eq_rows = np.concatenate([lam_nl[problem.nonlinear.eq], lam_lin[problem.linear.eq]])
+    ineq_nl = np.setdiff1d(np.arange(lam_nl.size), problem.nonlinear.eq)
+    ineq_lin = np.setdiff1d(np.arange(lam_lin.size), problem.linear.eq)
+    message = status.message
+    if status is Status.MAX_ITER:
+        message = message.replace("max_iter", f"max_iter (now {nit})")
+    if detail:
+        message = f"{message} {detail}"
+    res = Result(
+        x=xx.copy(), fun=float(f), jac=g, success=status in (Status.SUCCESS, Status.ACCEPTABLE),
+        status=status.code, message=message,
+        nit=nit, nfev=ev.nfev, njev=ev.njev, maxcv=float(maxcv),
+        constraint_multipliers=problem.split_multipliers(lam_lin, lam_nl),
+        bound_multipliers=z.copy(),
+        multipliers={"eq": eq_rows, "ineq": np.concatenate([lam_nl[ineq_nl], lam_lin[ineq_lin]]), "bounds": z.copy()},
+        nhev=ev.nhev, kkt=kkt_dict, history=history, hess=B, status_name=status.name,
+        solve_time=time.perf_counter() - t_start,
+    )
+    return res

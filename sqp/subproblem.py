@@ -29,45 +29,13 @@ import qpsolvers
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from sqp.backends import RETRY_QP_OPTIONS
 from sqp.problem import Rows
 
 Array = NDArray[np.float64]
 
-#: Backend settings that make the subproblem accurate enough for the multipliers the merit function and the
-#: BFGS update depend on (OSQP's defaults, eps 1e-3 without polishing, are far too loose for SQP).
-DEFAULT_QP_OPTIONS: dict[str, dict[str, Any]] = {
-    "osqp": {"eps_abs": 1e-9, "eps_rel": 1e-9, "polishing": True, "polish_refine_iter": 5, "max_iter": 4000,
-             "eps_prim_inf": 1e-7, "eps_dual_inf": 1e-7},
-    "proxqp": {"eps_abs": 1e-10, "eps_rel": 0.0, "max_iter": 1000},
-    "piqp": {"eps_abs": 1e-10, "eps_rel": 1e-12},
-    "clarabel": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},
-    "daqp": {},
-    "quadprog": {},
-}
-
-#: When a backend's answer is not found (OSQP: "solved inaccurate" at the tight default), it is asked again with these
-#: looser tolerances; the answer is still only used if it passes the residual check (:data:`QP_RESIDUAL_TOL`).
-RETRY_QP_OPTIONS: dict[str, list[dict[str, Any]]] = {
-    "osqp": [{"eps_abs": 1e-7, "eps_rel": 1e-7}, {"eps_abs": 1e-5, "eps_rel": 1e-5, "max_iter": 20000}],
-    "proxqp": [{"eps_abs": 1e-7}],
-    "piqp": [{"eps_abs": 1e-7, "eps_rel": 1e-9}],
-    "clarabel": [{"tol_gap_abs": 1e-7, "tol_gap_rel": 1e-7, "tol_feas": 1e-7}],
-}
-
 #: A QP answer is trusted when its primal and dual residuals are below this, relative to the data's scale.
 QP_RESIDUAL_TOL = 1e-6
-
-
-def installed_solvers() -> list[str]:
-    """The qpsolvers backends installed here."""
-    return list(qpsolvers.available_solvers)
-
-
-def check_solver_name(name: str) -> None:
-    """Raise ``ValueError`` naming the installed backends when ``name`` is not one of them."""
-    if name not in qpsolvers.available_solvers:
-        raise ValueError(f"qp_solver={name!r} is not an installed qpsolvers backend; installed: "
-                         f"{', '.join(qpsolvers.available_solvers)}.")
 
 
 @dataclass(frozen=True)

@@ -7,10 +7,11 @@ import pytest
 from scipy.optimize import BFGS, Bounds, LinearConstraint, NonlinearConstraint
 
 import sqp
+from sqp.backends import DEFAULT_QP_OPTIONS
 from sqp.hessian import damped_bfgs_update
 from sqp.merit import directional_derivative, merit
 from sqp.problem import Rows
-from sqp.subproblem import DEFAULT_QP_OPTIONS, linearise, solve_subproblem
+from sqp.subproblem import linearise, solve_subproblem
 
 
 def test_damped_bfgs_matches_scipy_damp_update():
@@ -294,11 +295,12 @@ def test_multipliers0_warm_start_and_its_shape_check():
 def test_newton_multipliers_undo_the_augmented_lagrangian_term():
     """With ``B = W + rho C^T C`` (``W`` indefinite) the QP solves ``B d + g - J^T lam = 0``; the corrected
     multipliers solve ``W d + g - J^T lam' = 0``: the step's own Newton multipliers, used by the KKT test."""
+    from sqp.build import build_problem
     from sqp.hessian import convexify
-    from sqp.iterate import Evaluator
+    from sqp.iterate import Evaluator, State
+    from sqp.multipliers import al_rows, equality_rows, newton_multipliers
     from sqp.options import Options
-    from sqp.problem import build_problem
-    from sqp.solver import _al_rows, _equality_rows, _newton_multipliers, _State, _subproblem
+    from sqp.step import qp_step
 
     con = {"type": "eq", "fun": lambda x: np.array([x @ x - 2]), "jac": lambda x: 2 * x[None, :],
            "hess": lambda x, v: 2 * v[0] * np.eye(2)}
@@ -310,14 +312,14 @@ def test_newton_multipliers_undo_the_augmented_lagrangian_term():
     lam = np.array([0.3])
     W = ev.lagrangian_hessian(pt.x, lam)
     assert np.linalg.eigvalsh(W)[0] < 0  # indefinite: the term is needed
-    rows = _al_rows(problem, lam)
-    B, delta, rho = convexify(W, 0.0, _equality_rows(problem, der.J, rows), 0.0)
+    rows = al_rows(problem, lam)
+    B, delta, rho = convexify(W, 0.0, equality_rows(problem, der.J, rows), 0.0)
     assert delta == 0.0 and rho > 0.0
-    st = _State(pt=pt, der=der, B=B, mu=np.zeros(1))
-    qp, _ = _subproblem(problem, Options(), st, 0.0)
+    st = State(pt=pt, der=der, B=B, mu=np.zeros(1))
+    qp, _ = qp_step(problem, Options().for_problem(problem), st, 0.0)
     assert qp.found and not qp.elastic
     np.testing.assert_allclose(B @ qp.d + der.g - der.J.T @ qp.lam_nl, 0.0, atol=1e-10)
-    fixed = _newton_multipliers(problem, st, qp, rows, rho)
+    fixed = newton_multipliers(problem, st, qp, rows, rho)
     np.testing.assert_allclose(W @ qp.d + der.g - der.J.T @ fixed.lam_nl, 0.0, atol=1e-10)
     assert abs(fixed.lam_nl[0] - qp.lam_nl[0]) > 1e-3  # a real correction, not a no-op
 

@@ -1,0 +1,110 @@
+"""The QP backends: which are installed, their settings, and the ``qp_solver="auto"`` policy.
+
+The engine solves its subproblems through `qpsolvers <https://github.com/qpsolvers/qpsolvers>`_, so any installed
+backend can be named. ``"auto"`` (the default) picks one from the model's structure, once per solve, by the rule of
+:func:`choose_qp_solver`; every measurement behind it is quoted there.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import qpsolvers
+
+from sqp.hessian import DENSE_LIMIT
+
+#: Backend settings that make the subproblem accurate enough for the multipliers the merit function and the
+#: BFGS update depend on (OSQP's defaults, eps 1e-3 without polishing, are far too loose for SQP).
+DEFAULT_QP_OPTIONS: dict[str, dict[str, Any]] = {
+    "osqp": {"eps_abs": 1e-9, "eps_rel": 1e-9, "polishing": True, "polish_refine_iter": 5, "max_iter": 4000,
+             "eps_prim_inf": 1e-7, "eps_dual_inf": 1e-7},
+    "proxqp": {"eps_abs": 1e-10, "eps_rel": 0.0, "max_iter": 1000},
+    "piqp": {"eps_abs": 1e-10, "eps_rel": 1e-12},
+    "clarabel": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},
+    "daqp": {},
+    "quadprog": {},
+}
+
+#: When a backend's answer is not found (OSQP: "solved inaccurate" at the tight default), it is asked again with these
+#: looser tolerances; the answer is still only used if it passes the residual check
+#: (:data:`sqp.subproblem.QP_RESIDUAL_TOL`).
+RETRY_QP_OPTIONS: dict[str, list[dict[str, Any]]] = {
+    "osqp": [{"eps_abs": 1e-7, "eps_rel": 1e-7}, {"eps_abs": 1e-5, "eps_rel": 1e-5, "max_iter": 20000}],
+    "proxqp": [{"eps_abs": 1e-7}],
+    "piqp": [{"eps_abs": 1e-7, "eps_rel": 1e-9}],
+    "clarabel": [{"tol_gap_abs": 1e-7, "tol_gap_rel": 1e-7, "tol_feas": 1e-7}],
+}
+
+#: The name that asks the engine to choose the backend (:func:`choose_qp_solver`).
+AUTO = "auto"
+
+#: Order in which ``"auto"`` falls back when the backend its rule picks is not installed: measured accuracy and speed
+#: on the subproblems first (DAQP, then the sparse interior-point PIQP and Clarabel), then OSQP (loose multipliers),
+#: quadprog (dense, no warm start) and ProxQP (slowest sparse backend measured).
+PREFERENCE: tuple[str, ...] = ("daqp", "piqp", "clarabel", "osqp", "quadprog", "proxqp")
+
+
+def installed_solvers() -> list[str]:
+    """The qpsolvers backends installed here."""
+    return list(qpsolvers.available_solvers)
+
+
+def check_solver_name(name: str) -> None:
+    """Raise ``ValueError`` naming the installed backends (and ``"auto"``) when ``name`` is neither of them."""
+    if name != AUTO and name not in qpsolvers.available_solvers:
+        raise ValueError(f"qp_solver={name!r} is not an installed qpsolvers backend; pass {AUTO!r} (the default: "
+                         f"chosen by problem size and sparsity) or one of the installed: "
+                         f"{', '.join(qpsolvers.available_solvers)}.")
+
+
+def auto_choice(n: int, sparse_jacobians: bool, installed: list[str] | None = None) -> tuple[str, str]:
+    """What ``qp_solver="auto"`` picks for a model with ``n`` variables, and why (for the verbose header).
+
+    See :func:`choose_qp_solver` for the rule; ``installed`` defaults to :func:`installed_solvers`.
+    """
+    installed = installed_solvers() if installed is None else installed
+    if n <= DENSE_LIMIT:
+        name, why = "daqp", f"n = {n} <= DENSE_LIMIT = {DENSE_LIMIT}: dense active set"
+    elif sparse_jacobians:
+        name, why = "piqp", f"n = {n} > DENSE_LIMIT = {DENSE_LIMIT}, every constraint Jacobian sparse"
+    else:
+        name, why = "clarabel", f"n = {n} > DENSE_LIMIT = {DENSE_LIMIT}, dense constraint rows"
+    if name in installed:
+        return name, why
+    for other in PREFERENCE:
+        if other in installed:
+            return other, f"{why}; {name} is not installed"
+    raise ValueError(f"qp_solver='auto' found none of {', '.join(PREFERENCE)} installed; install one "
+                     "(pip install daqp) or name an installed qpsolvers backend.")
+
+
+def choose_qp_solver(n: int, sparse_jacobians: bool, installed: list[str] | None = None) -> str:
+    """The backend ``qp_solver="auto"`` uses, chosen once per solve from the model's structure.
+
+    Rule (it reproduces the choices the guidewire package made by hand, so no solve changed):
+
+    1. ``n <= DENSE_LIMIT`` (300) variables: ``"daqp"``, a dense dual active-set method. The engine works densely
+       there (:data:`sqp.hessian.DENSE_LIMIT`), and on the Hock–Schittkowski subproblems DAQP was both the most
+       accurate backend (exact active sets and multipliers: 115 of 124 problems solved, OSQP 113) and the fastest
+       (2.8x OSQP per problem, shifted geometric mean; ``benchmarks/results/hock_schittkowski.md``).
+    2. More variables and every constraint Jacobian sparse (each nonlinear ``jac`` at ``x0`` and each
+       ``LinearConstraint.A`` a scipy.sparse matrix; :attr:`sqp.problem.Problem.sparse_jacobians`): ``"piqp"``,
+       whose sparse interior-point backend took 10-20 ms per subproblem on the guidewire's full-space program at
+       1600 bars (4800 variables, 3200 equalities, 1600 wall rows), where Clarabel took 50 ms, OSQP did not converge
+       in 4000 iterations and ProxQP's sparse backend took minutes.
+    3. More variables with some dense Jacobian rows: ``"clarabel"``, the sparse interior-point method measured best
+       on large programs whose rows are dense (the guidewire's reduced program, where every wall row involves all
+       the bar angles).
+
+    If the backend picked is not installed, the first installed one of :data:`PREFERENCE` is used.
+
+    Parameters
+    ----------
+    n : int
+        Number of variables.
+    sparse_jacobians : bool
+        Whether every constraint Jacobian is sparse (True without constraints).
+    installed : list of str, optional
+        The installed backends; default :func:`installed_solvers`.
+    """
+    return auto_choice(n, sparse_jacobians, installed)[0]

@@ -1,0 +1,83 @@
+"""Backtracking on the L1 merit function (paper Eq. 12) along the QP step, with one second-order correction.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from sqp.iterate import Derivatives, Evaluator, Point, State
+from sqp.merit import ARMIJO, directional_derivative, merit, next_step_length
+from sqp.options import Options
+from sqp.problem import Problem
+from sqp.step import second_order_correction, trial_point
+
+Array = NDArray[np.float64]
+
+
+#: Smallest step length tried by the backtracking line search.
+MIN_STEP_LENGTH = 1e-10
+
+
+@dataclass(frozen=True)
+class Search:
+    """What a line search gave: the accepted point with its derivatives (``pt is None`` when none was accepted).
+
+    ``nonfinite`` names the user function that returned NaN or inf at the last point tried (None when that point was
+    finite); ``alpha`` is the accepted step length, or the last one tried."""
+
+    pt: Point | None = None
+    der: Derivatives | None = None
+    alpha: float = 0.0
+    soc: bool = False
+    nonfinite: str | None = None
+
+
+def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d: Array) -> Search:
+    """Armijo backtracking on the L1 merit function, with one second-order correction of the full step.
+
+    A point is accepted only when its values and its derivatives are finite: NaN or inf from any user function
+    (objective, constraint, gradient or Jacobian) at a trial point shortens the step. Fails (``pt is None``) when no
+    step length down to :data:`MIN_STEP_LENGTH` decreases the merit function enough.
+    """
+    rows = problem.nonlinear
+    Jd = st.der.J @ d
+    phi0 = merit(st.pt.f, st.pt.c, rows, st.mu)
+    D = directional_derivative(st.der.g, d, st.pt.c, Jd, rows, st.mu)
+    if D >= 0.0:
+        # an inexact QP can give an ascent direction; a steeper penalty restores descent when d is infeasible
+        viol = rows.violation(st.pt.c)
+        if np.any(viol > 0):
+            st.mu = st.mu + (D + 1.0) / float(np.sum(viol)) * (viol > 0)
+            phi0 = merit(st.pt.f, st.pt.c, rows, st.mu)
+            D = directional_derivative(st.der.g, d, st.pt.c, Jd, rows, st.mu)
+        if D >= 0.0:
+            return Search()
+    alpha = 1.0
+    tried_soc = not options.second_order_correction or rows.lb.size == 0
+    nonfinite: str | None = None
+    tried = alpha
+    while alpha >= MIN_STEP_LENGTH:
+        trial = trial_point(problem, ev, st.pt.x, alpha * d)
+        if np.array_equal(trial.x, st.pt.x):
+            # the step is below the rounding level of x: no progress is possible along d
+            return Search(alpha=tried, nonfinite=nonfinite)
+        tried = alpha
+        nonfinite = ev.nonfinite_source(trial)
+        phi = merit(trial.f, trial.c, rows, st.mu)
+        if phi <= phi0 + ARMIJO * alpha * D:
+            der = ev.derivatives(trial)
+            if der.finite:
+                return Search(trial, der, alpha, False)
+            nonfinite, phi = ev.nonfinite_source(trial, der), np.inf  # shorten the step as for a NaN value
+        if not tried_soc:
+            tried_soc = True
+            corrected = second_order_correction(problem, options, ev, st, d, trial)
+            if corrected is not None and merit(corrected.f, corrected.c, rows, st.mu) <= phi0 + ARMIJO * D:
+                der = ev.derivatives(corrected)
+                if der.finite:
+                    return Search(corrected, der, 1.0, True)
+        alpha = next_step_length(alpha, phi0, D, phi)
+    return Search(alpha=tried, nonfinite=nonfinite)

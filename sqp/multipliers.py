@@ -1,0 +1,80 @@
+"""Multiplier estimates around the QP: the rows an exact Hessian is convexified on, the Newton multipliers recovered
+from an augmented-Lagrangian QP, the Lagrangian gradient of the BFGS update and the test that the multipliers load
+only active rows.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+
+from sqp.iterate import Derivatives, State
+from sqp.kkt import lagrangian_gradient
+from sqp.problem import Problem
+from sqp.subproblem import QPStep
+
+Array = NDArray[np.float64]
+
+
+def al_rows(problem: Problem, lam: Array) -> Array:
+    """Nonlinear rows the QP keeps as equalities: the equalities and the inequalities with a nonzero multiplier."""
+    return np.union1d(problem.nonlinear.eq, np.flatnonzero(lam))
+
+
+def equality_rows(problem: Problem, J: Any, rows: Array) -> Any:
+    """The rows ``C`` of the augmented-Lagrangian convexification of an exact Hessian: the nonlinear ``rows``
+    (:func:`al_rows`) and the linear equalities."""
+    parts = [J[rows]] if rows.size else []
+    if problem.linear.eq.size:
+        parts.append(problem.A[problem.linear.eq])
+    if not parts:
+        return None
+    if any(sp.issparse(p) for p in parts):
+        return sp.vstack(parts, format="csr")
+    return np.vstack(parts)
+
+
+def newton_multipliers(problem: Problem, st: State, qp: QPStep, rows: Array, weight: float) -> QPStep:
+    """The QP's multipliers with the augmented-Lagrangian term of :func:`~sqp.hessian.convexify` moved back into them.
+
+    With ``B = W + weight C^T C`` the QP's stationarity ``B d + g - J^T lam - A^T lam_lin - z = 0`` is
+    ``W d + g - J^T lam' - A^T lam_lin' - z = 0`` for ``lam' = lam - weight (C d)`` on the rows of ``C``: the step is
+    Newton's and so are these multipliers, whereas ``lam`` itself is off by ``weight`` times the residual of those
+    rows. (Near a solution the corrected ones are exact to second order, so the KKT test can use them at the new
+    point.)"""
+    lam_nl = qp.lam_nl.copy()
+    if rows.size:
+        lam_nl[rows] -= weight * np.asarray(st.der.J[rows] @ qp.d).ravel()
+    lam_lin = qp.lam_lin.copy()
+    eq = problem.linear.eq
+    if eq.size:
+        lam_lin[eq] -= weight * np.asarray(problem.A[eq] @ qp.d).ravel()
+    return replace(qp, lam_nl=lam_nl, lam_lin=lam_lin)
+
+
+def nonlinear_lagrangian_gradient(problem: Problem, der: Derivatives, qp: QPStep) -> Array:
+    """Only the nonlinear rows matter for ``y``: linear rows and bounds have constant gradients."""
+    return lagrangian_gradient(der.g, der.J, qp.lam_nl, problem.A, np.zeros(0), np.zeros(der.g.size))
+
+
+def loaded_rows_active(problem: Problem, st: State, tol: float) -> bool:
+    """Whether every inequality row and bound with a nonzero multiplier in ``st.qp`` is active at ``st.pt`` to within
+    the feasibility tolerance (so a solution reported with the last QP's multipliers has a contact force only where
+    there is contact, as the next QP's would)."""
+    qp = st.qp
+    assert qp is not None
+    x = st.pt.x
+    limit = tol * max(1.0, float(np.max(np.abs(x), initial=0.0)))
+    for rows, values, lam in ((problem.nonlinear, st.pt.c, qp.lam_nl), (problem.linear, st.pt.r, qp.lam_lin),
+                              (problem.bound_rows if problem.has_bounds else None, x, qp.z)):
+        if rows is None or lam.size == 0:
+            continue
+        with np.errstate(invalid="ignore"):
+            gap = np.where(lam > 0, values - rows.lb, np.where(lam < 0, rows.ub - values, 0.0))
+        if np.any(~(np.abs(gap) <= limit)):
+            return False
+    return True

@@ -1,0 +1,76 @@
+"""``qp_solver="auto"``: the backend chosen from the model's structure, recorded, and the same solve as naming it."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from scipy.optimize import LinearConstraint
+
+import sqp
+from sqp.backends import PREFERENCE, choose_qp_solver
+
+ALL = ["daqp", "piqp", "clarabel", "osqp", "quadprog", "proxqp"]
+
+
+@pytest.mark.parametrize(
+    ("n", "sparse", "expected"),
+    [(1, False, "daqp"), (sqp.DENSE_LIMIT, True, "daqp"), (sqp.DENSE_LIMIT + 1, True, "piqp"),
+     (sqp.DENSE_LIMIT + 1, False, "clarabel")],
+)
+def test_the_rule(n, sparse, expected):
+    assert choose_qp_solver(n, sparse, ALL) == expected
+
+
+def test_a_missing_pick_falls_back_along_the_preference_list():
+    assert PREFERENCE == ("daqp", "piqp", "clarabel", "osqp", "quadprog", "proxqp")
+    assert choose_qp_solver(10, False, ["osqp", "quadprog"]) == "osqp"
+    assert choose_qp_solver(400, True, ["daqp", "clarabel"]) == "daqp"
+    assert choose_qp_solver(400, False, ["proxqp"]) == "proxqp"
+    with pytest.raises(ValueError, match="none of daqp"):
+        choose_qp_solver(10, False, [])
+
+
+def test_unknown_name_lists_auto_and_the_installed_backends():
+    with pytest.raises(ValueError, match="'auto'") as info:
+        sqp.Options(qp_solver="nosuch")
+    assert all(name in str(info.value) for name in sqp.installed_solvers())
+    with pytest.raises(TypeError, match="qp_solver"):
+        sqp.Options(qp_solver=3)  # type: ignore[arg-type]
+
+
+def _quadratic(n: int, sparse: bool) -> dict:
+    """min |x - t|^2 s.t. two-sided difference rows (sparse or dense A)."""
+    t = np.linspace(-1.0, 1.0, n)
+    A = sp.diags([np.ones(n - 1), -np.ones(n - 1)], [0, 1], shape=(n - 1, n), format="csr")
+    return {"fun": lambda x: float((x - t) @ (x - t)), "x0": np.zeros(n), "jac": lambda x: 2 * (x - t),
+            "constraints": [LinearConstraint(A if sparse else A.toarray(), -1e-3, 1e-3)]}
+
+
+@pytest.mark.parametrize(("n", "sparse", "expected"), [(20, True, "daqp"), (sqp.DENSE_LIMIT + 10, True, "piqp"),
+                                                       (sqp.DENSE_LIMIT + 10, False, "clarabel")])
+def test_auto_is_the_named_backend_and_says_which(n, sparse, expected, capsys):
+    if expected not in sqp.installed_solvers():
+        pytest.skip(f"{expected} not installed")
+    auto = sqp.minimize(**_quadratic(n, sparse), verbose=True)
+    assert auto.success and auto.qp_solver == expected
+    assert f"qp_solver = {expected} (auto: " in capsys.readouterr().out
+    named = sqp.minimize(**_quadratic(n, sparse), qp_solver=expected)
+    assert named.qp_solver == expected
+    assert (auto.nit, auto.nfev) == (named.nit, named.nfev)
+    np.testing.assert_array_equal(auto.x, named.x)
+
+
+def test_a_named_backend_is_kept():
+    res = sqp.minimize(**_quadratic(20, True), qp_solver="quadprog")
+    assert res.success and res.qp_solver == "quadprog"
+
+
+def test_options_resolve_per_problem():
+    from sqp.build import build_problem
+
+    problem = build_problem(**{k: v for k, v in _quadratic(sqp.DENSE_LIMIT + 10, True).items()}, bounds=None)
+    assert sqp.Options().for_problem(problem).qp_solver == "piqp"
+    assert sqp.Options(qp_solver="osqp").for_problem(problem).qp_solver == "osqp"
+    with pytest.raises(ValueError, match="for_problem"):
+        _ = sqp.Options().backends

@@ -96,9 +96,8 @@ def minimize(
     hess0 : array_like, shape (n, n), optional
         Initial Lagrangian Hessian approximation (e.g. the objective's known Hessian); symmetric, positive
         semidefinite (shifted to positive definite if needed). Default: identity, rescaled after the first step.
-        Not used when ``hess`` is given (only its shape is checked then). Dense or sparse; with more than
-        :data:`~sqp.DENSE_LIMIT` variables a sparse one is currently not used by BFGS either (identity start), a
-        dense one is (a known inconsistency, kept because changing it changes existing solves).
+        Not used when ``hess`` is given (only its shape is checked then). Dense or sparse (BFGS keeps a dense
+        matrix, so a sparse one is made dense whatever its size).
     multipliers0 : sequence of arrays, optional
         Starting multipliers, one array per constraint (e.g. ``res.constraint_multipliers`` of a neighbouring
         solve): the first exact Lagrangian Hessian and the first merit penalties use them (a warm start).

@@ -10,7 +10,6 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from sqp.hessian import DENSE_LIMIT
 from sqp.options import Options
 from sqp.problem import Problem
 from sqp.result import Status
@@ -20,17 +19,10 @@ Array = NDArray[np.float64]
 
 
 def initial_hessian(hess0: Any, n: int) -> Any:
-    """Validate ``hess0``. A large sparse one stays sparse (it is only the metric of an exact-Hessian solve then);
-    a dense or small one is checked for positive definiteness and shifted if merely semidefinite."""
+    """Validate ``hess0``, the start of the damped-BFGS matrix (dense: the updates fill it; a sparse one is made
+    dense whatever its size); check it for positive definiteness and shift it if merely semidefinite."""
     if hess0 is None:
         return None
-    if sp.issparse(hess0) and n > DENSE_LIMIT:
-        H = sp.csc_matrix(hess0, dtype=float)
-        if H.shape != (n, n):
-            raise ValueError(f"hess0 has shape {H.shape}; expected ({n}, {n}).")
-        if not np.all(np.isfinite(H.data)) or abs(H - H.T).max() > 1e-10 * max(1.0, abs(H).max()):
-            raise ValueError("hess0 must be finite and symmetric.")
-        return H
     H = np.asarray(hess0.toarray() if hasattr(hess0, "toarray") else hess0, dtype=float)
     if H.shape != (n, n):
         raise ValueError(f"hess0 has shape {H.shape}; expected ({n}, {n}).")

@@ -94,9 +94,6 @@ def test_dense_input_on_a_large_problem(swap: str) -> None:
     _same(sqp.minimize(**_chain(n, swap, sparse_reference=True)), ref)
 
 
-@pytest.mark.xfail(strict=True, reason="known: with BFGS a sparse hess0 above DENSE_LIMIT variables is not used (the "
-                   "solve starts from the identity, 50 iterations here), a dense one is (12 iterations); using it "
-                   "changes guidewire's reduced-BFGS numerics above 300 bars, so it is left for a separate change")
 def test_dense_hess0_on_a_large_bfgs_problem() -> None:
     n = sqp.DENSE_LIMIT + 20
     ref = sqp.minimize(**_chain(n, None, sparse_reference=True, exact=False))

@@ -47,6 +47,10 @@ CLOSURE_TOLERANCE = 1e-9
 WALL_MARGIN = 1.05
 """Factor on the smallest wall-feasible curvature of the free part, so the start is strictly inside the walls."""
 
+MAX_FREE_TURNING = 2.0 * math.pi
+"""The free part's start arc turns at most this much (rad): a longer arc of constant curvature overlaps itself (the
+coil a channel's walls once produced, reported as success at 300 times the energy)."""
+
 _TRIAL_CURVATURES = np.concatenate(([0.0], np.geomspace(1e-4, 10.0, 125)))
 """Trial curvatures of the free part, as fractions of ``4π / L_free`` (two full turns; up to 20 turns, for a long
 wire in front of a near wall); 0 first."""
@@ -185,14 +189,15 @@ def _free_part_angles(scene: Scene, start: FloatArray, angle: float, lengths: Fl
     for wall in scene.walls:
         (nx, ny), offset = wall.unit()
         gap = np.minimum(gap, np.min(offset - (nodes[..., 0] * nx + nodes[..., 1] * ny), axis=1))
-    feasible = gap >= 0.0
-    if not feasible.any():
-        return phi[0]
+    no_loop = np.abs(kappa) * total <= MAX_FREE_TURNING  # a longer arc overlaps itself: a coil, not a wire
+    feasible = (gap >= 0.0) & no_loop
+    if not feasible.any():  # nothing clears the walls without looping: the least violating arc that does not loop
+        return phi[int(np.argmax(np.where(no_loop, gap, -np.inf)))]
     # the least |κ| that clears the walls; of its two signs (when both do) the one farther from them, so that the
     # start of a mirrored scene is the mirrored start
     least = np.flatnonzero(feasible & (np.abs(kappa) == np.abs(kappa[int(np.argmax(feasible))])))
     pick = int(least[np.argmax(gap[least])])
-    return angle + WALL_MARGIN * kappa[pick] * s_mid
+    return angle + min(WALL_MARGIN * abs(kappa[pick]), MAX_FREE_TURNING / total) * np.sign(kappa[pick]) * s_mid
 
 
 def initial_angles(scene: Scene, chain: BarChain, contact_nodes: NDArray[np.int_]) -> FloatArray:

@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .blocks import Block, Loads
+from .crossing import crossing_bars
 from .formulation import Formulation
 from .scene import Scene
 from .scene_file import scene_to_dict
@@ -101,8 +102,9 @@ class Solution:
     wall_forces : ndarray, shape (n + 1, 2), or None
         Total force of the walls on each node (N); None after a failed solve.
     success, status, message :
-        The verdict (``status`` the ``sqp`` status code of the run that gave the answer; ``message`` its message,
-        followed by what the fallback did when one ran).
+        The verdict: ``status`` the ``sqp`` status code of the run that gave the answer, or
+        :data:`SHAPE_REJECTED` when that run converged but the shape fails a check a user would see (bars crossing
+        each other, a node outside a wall); ``message`` says which, followed by what the fallback did when one ran.
     iterations : int
         SQP iterations summed over every run: every working-set round and the fallback.
     solve_time_s : float
@@ -248,26 +250,56 @@ def _reactions(form: Formulation, phi: FloatArray, nodes: FloatArray, multiplier
     return tuple(out), (None if multipliers is None else loads.node_forces)
 
 
+#: ``Solution.status`` of a run that converged to a shape failing :func:`shape_defect` (not an ``sqp`` code).
+SHAPE_REJECTED = 20
+
+#: A node may violate a constraint by this many times ``tol · max(1, L)`` before the shape is rejected.
+VIOLATION_FACTOR = 10.0
+
+
+def shape_defect(form: Formulation, nodes: FloatArray, max_violation: float, tol: float) -> str | None:
+    """What a user would see wrong with a converged shape, or None: bars that cross each other
+    (:func:`guidewire.crossing.crossing_bars`), or a constraint violated beyond ``VIOLATION_FACTOR · tol · L``
+    anywhere (walls at every node, not only their working set)."""
+    crossing = crossing_bars(nodes)
+    if crossing is not None:
+        i, j = crossing
+        return (f"bars {i + 1} and {j + 1} cross each other (s = {form.chain.arc_lengths[i]:.4g} and "
+                f"{form.chain.arc_lengths[j]:.4g} mm): the shape intersects itself, which no wire can do")
+    limit = VIOLATION_FACTOR * tol * max(1.0, form.scene.wire.length)
+    if max_violation > limit:
+        return f"a constraint is violated by {max_violation:.3g} (mm or rad) at the answer, more than {limit:.3g}"
+    return None
+
+
 def build_solution(form: Formulation, res: Any, solve_time_s: float, *, iterations: int | None = None,
-                   rounds: int = 1, fallback: str | None = None, message: str | None = None) -> Solution:
+                   rounds: int = 1, fallback: str | None = None, message: str | None = None,
+                   tol: float = 1e-8) -> Solution:
     """Assemble a :class:`Solution` from the formulation and the ``sqp`` result ``res`` of its program.
 
-    The bar angles are :meth:`Formulation.answer`; forces and moments only when ``res.success``.
+    The bar angles are :meth:`Formulation.answer`. A converged run whose shape fails :func:`shape_defect` is
+    reported as a failure (:data:`SHAPE_REJECTED`); forces and moments only for a success.
     """
     multipliers = form.multipliers(res)
     phi = form.answer(np.asarray(res.x, dtype=float), multipliers)
     wire = form.scene.wire
     nodes = form.chain.nodes(phi)
+    max_violation = form.max_violation(phi)
+    success, status = bool(res.success), int(res.status)
+    message = str(res.message) if message is None else message
+    defect = shape_defect(form, nodes, max_violation, tol) if success else None
+    if defect is not None:
+        success, status = False, SHAPE_REJECTED
+        message = f"The solver converged, but the shape is rejected: {defect}. ({message})"
     tangent, relative, curvature = _node_geometry(form, phi)
-    reactions, wall_forces = _reactions(form, phi, nodes, multipliers if res.success else None)
+    reactions, wall_forces = _reactions(form, phi, nodes, multipliers if success else None)
     return Solution(
         scene=form.scene, nodes=nodes, s=form.chain.arc_lengths, bar_angles=phi, tangent_angles=tangent,
         relative_angles=relative, curvature=curvature,
         bending_stress_mpa=wire.youngs_modulus * 0.5 * wire.diameter * np.abs(curvature),
         paper_stress_measure=np.abs(relative), energy=float(form.energy.value(phi)), reactions=reactions,
-        wall_forces=wall_forces, success=bool(res.success), status=int(res.status),
-        message=str(res.message) if message is None else message,
+        wall_forces=wall_forces, success=success, status=status, message=message,
         iterations=int(res.nit) if iterations is None else int(iterations), solve_time_s=float(solve_time_s),
-        max_violation=form.max_violation(phi), result=res, layout=form.layout.name, rounds=int(rounds),
+        max_violation=max_violation, result=res, layout=form.layout.name, rounds=int(rounds),
         fallback=fallback, blocks=form.blocks, multipliers=tuple(multipliers),
     )

@@ -141,7 +141,7 @@ def solve(
             message = (f"{res.message} (a {FALLBACK} retry failed too: "
                        f"{sqp.Status.from_code(res_q.status).name} after {res_q.nit} iterations)")
     return build_solution(answer, res, time.perf_counter() - start, iterations=sum(int(r.nit) for r in runs),
-                          rounds=len(runs), fallback=fallback, message=message)
+                          rounds=len(runs), fallback=fallback, message=message, tol=tol)
 
 
 def _start_multipliers(form: Formulation, multipliers0: Any) -> list[Any] | None:

@@ -10,6 +10,7 @@ import pytest
 from guidewire import Base, Contact, Scene, Wall, Wire, paper_scenes, solve
 from guidewire.feasibility import infeasibility
 from guidewire.fields import SuspiciousValueWarning
+from guidewire.result import SHAPE_REJECTED
 
 
 def test_nearly_taut_stretch_between_two_points_is_solved_by_the_bfgs_fallback():
@@ -38,15 +39,20 @@ def test_a_straight_taut_wire_is_solved_in_any_orientation(angle):
 
 
 def test_prescribed_angles_are_literal_a_full_turn_more_is_a_loop():
+    """θ + 2π is taken literally: the wire turns a full loop more to meet it. In the plane a loop crosses itself,
+    which no wire can do, so the converged shape is reported as rejected (not as a success), and says why."""
     base = paper_scenes()["table1_pi_4"].with_scheme("paper")
     contact = base.contacts[0]
     with pytest.warns(SuspiciousValueWarning, match="contact.angle is 7.06858 rad, more than a full turn"):
         looped = Scene(base.wire, base.base, (Contact(contact.s, contact.point, contact.angle + 2.0 * math.pi),))
     plain, loop = solve(base), solve(looped)
-    assert plain.success and loop.success, (plain.message, loop.message)
+    assert plain.success, plain.message
+    assert not loop.success and loop.status == SHAPE_REJECTED and "cross each other" in loop.message
+    assert loop.result.success  # the program itself converged: only the shape check rejects it
     assert loop.bar_angles[-1] == pytest.approx(contact.angle + 2.0 * math.pi, abs=1e-9)
     assert loop.bar_angles[-1] - loop.bar_angles[0] > 2.0 * math.pi - 1.0  # the wire turns a full loop more
     assert loop.energy > 5.0 * plain.energy
+    assert loop.wall_forces is None and all(r.force is None for r in loop.reactions)
 
 
 def _arc_point(s: float, curvature: float, angle: float) -> tuple[float, float]:

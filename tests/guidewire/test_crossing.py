@@ -1,0 +1,51 @@
+"""Self-crossing shapes are found (against a brute-force test of every pair) and never reported as a success."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from guidewire import Base, Scene, Wall, Wire, solve
+from guidewire.crossing import crossing_bars
+
+
+def _brute(p):
+    """Every non-adjacent pair by exact orientation tests (generic positions: no touching)."""
+    def orient(a, b, c):
+        return np.sign((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+
+    for i in range(len(p) - 1):
+        for j in range(i + 2, len(p) - 1):
+            a, b, c, d = p[i], p[i + 1], p[j], p[j + 1]
+            if orient(a, b, c) != orient(a, b, d) and orient(c, d, a) != orient(c, d, b):
+                return (i, j)
+    return None
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_first_crossing_matches_brute_force_on_random_walks(seed):
+    rng = np.random.default_rng(seed)
+    for _ in range(40):
+        angles = np.cumsum(rng.normal(0.0, 0.8, 30))
+        p = np.vstack([[0.0, 0.0], np.cumsum(np.c_[np.cos(angles), np.sin(angles)], axis=0)])
+        assert crossing_bars(p) == _brute(p)
+
+
+def test_shapes_that_do_and_do_not_cross():
+    t = np.linspace(0.0, 4.0 * np.pi, 200)
+    assert crossing_bars(np.c_[np.cos(t), np.sin(t)]) is not None  # two turns of one circle: a coil
+    t = np.linspace(0.0, 1.9 * np.pi, 200)
+    assert crossing_bars(np.c_[np.cos(t), np.sin(t)]) is None  # most of a circle, open
+    flat = np.c_[np.linspace(0.0, 10.0, 1001), 1e-12 * np.random.default_rng(1).standard_normal(1001)]
+    assert crossing_bars(flat) is None  # a wire lying flat along a wall: collinear bars apart are not a crossing
+    assert crossing_bars(np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, -1.0]])) == (0, 2)
+
+
+def test_two_wall_channel_gives_the_straight_wire_not_a_coil():
+    """The issue's channel (|y| ≤ 2, clamp angle 0.6, L = 80, free end) once returned a self-crossing coil as a
+    success (E = 475.5 N·mm). The continuum reference's energy is 1.5128 N·mm."""
+    scene = Scene(Wire(80.0, 80), Base((0.0, 0.0), 0.6), walls=(Wall((0.0, 1.0), 2.0), Wall((0.0, -1.0), 2.0)))
+    sol = solve(scene)
+    assert sol.success, sol.message
+    assert sol.energy == pytest.approx(1.5128, rel=0.01) and sol.iterations <= 10
+    assert crossing_bars(sol.nodes) is None and np.max(np.abs(sol.nodes[:, 1])) <= 2.0 + 1e-9

@@ -239,7 +239,7 @@ class FullLayout:
                 hi = np.where(equal, r.ub, r.ub - margin)
                 value = r.values(p)
                 delta = np.clip(value, lo, hi) - value
-                if np.any(delta != 0.0):
+                if np.any(delta != 0.0):  # (a row's direction is nonzero: a unit normal or a coordinate axis)
                     np.add.at(p, r.nodes, (delta / np.einsum("ij,ij->i", r.directions, r.directions))[:, None]
                               * r.directions)
                     moved = moved or bool(np.any((value < lo) & ~equal | (value > hi) & ~equal))

@@ -15,6 +15,8 @@ the start decides which one the solver finds. The default start aims at the lowe
    two-mode elastica, so the start sits in the basin of the lowest-energy equilibrium. (A cubic Hermite curve,
    the obvious alternative, is shorter than the wire unless its tangents are so long that it loops.) Each bar takes
    the curve's angle at its midpoint, so the start satisfies the position constraints to O((L/n)²).
+0. In a vessel without contacts: the centreline from the entrance (a wire advanced along the lumen), never an arc
+   that merely clears the walls (in a channel that is a coil).
 3. Beyond the last pose (a free end, or the whole wire when there is no contact): a circular arc continuing the last
    tangent with the smallest curvature ``|κ|`` (either sign, 0 included) whose nodes satisfy every wall, times a 5 %
    margin. Without walls this is a straight continuation, the free end's exact minimum. With walls it is a curved,
@@ -25,6 +27,7 @@ the start decides which one the solver finds. The default start aims at the lowe
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -200,6 +203,16 @@ def _free_part_angles(scene: Scene, start: FloatArray, angle: float, lengths: Fl
     return angle + min(WALL_MARGIN * abs(kappa[pick]), MAX_FREE_TURNING / total) * np.sign(kappa[pick]) * s_mid
 
 
+def _lumen_angles(vessel: Any, chain: BarChain, base_angle: float | None) -> FloatArray:
+    """Step 0 for a wire in a vessel (no contacts): follow the centreline from the entrance — each bar takes the
+    centreline's tangent at its midpoint's arc length — unwrapped to within π of the base angle."""
+    s_mid = chain.arc_lengths[:-1] + 0.5 * chain.lengths
+    _, angles = vessel.path(s_mid)
+    angles = np.unwrap(np.asarray(angles, dtype=float))
+    reference = angles[0] if base_angle is None else base_angle
+    return angles + 2.0 * math.pi * round((reference - angles[0]) / (2.0 * math.pi))
+
+
 def initial_angles(scene: Scene, chain: BarChain, contact_nodes: NDArray[np.int_]) -> FloatArray:
     """The default start ``φ0`` for ``scene`` on ``chain`` (see the module docstring).
 
@@ -217,6 +230,9 @@ def initial_angles(scene: Scene, chain: BarChain, contact_nodes: NDArray[np.int_
         Bar angles in rad.
     """
     base = scene.base
+    vessel = getattr(scene, "vessel", None)
+    if vessel is not None and not scene.contacts:
+        return _lumen_angles(vessel, chain, base.angle)
     pose_nodes = [0] + [int(k) for k, c in zip(contact_nodes, scene.contacts, strict=True) if c.point is not None]
     points = [np.asarray(base.point, dtype=float)]
     points += [np.asarray(c.point, dtype=float) for c in scene.contacts if c.point is not None]

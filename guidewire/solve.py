@@ -14,8 +14,8 @@ from .formulation import LAYOUTS, Formulation, assemble, formulate
 from .result import Solution, build_solution
 from .scene import Scene
 
-#: Rounds of the working set: solve, grow every block that misses a violated row (a wall: the violating nodes and
-#: their neighbours), solve again from the answer.
+#: Rounds of the working set: solve, refine every block whose rows do not fit the answer (a wall: add the violating
+#: nodes and their neighbours; a lumen: move its tangent planes), solve again from the answer.
 MAX_ROUNDS = 8
 
 #: ``layout="auto"`` uses the full-space program above this many bars (see :func:`choose_layout`).
@@ -158,8 +158,9 @@ def _start_multipliers(form: Formulation, multipliers0: Any) -> list[Any] | None
 
 def _rounds(form: Formulation, hessian: str, multipliers0: Any, options: dict[str, Any],
             runs: list[Any]) -> tuple[Formulation, Any]:
-    """Solve ``form``; while a block's working set misses a violated row (:meth:`Block.grow`), grow it and solve
-    again from the answer, up to :data:`MAX_ROUNDS` times. Every ``sqp`` result is appended to ``runs``."""
+    """Solve ``form``; while a block's rows do not fit the answer (:meth:`Block.refine`: a wall's working set misses a
+    violated node, a lumen's tangent planes moved), refine them and solve again from the answer and its multipliers
+    (matched by row), up to :data:`MAX_ROUNDS` times. Every ``sqp`` result is appended to ``runs``."""
     for _ in range(MAX_ROUNDS):
         args = form.arguments()
         if hessian == "exact":
@@ -170,10 +171,11 @@ def _rounds(form: Formulation, hessian: str, multipliers0: Any, options: dict[st
         runs.append(res)
         phi = form.angles(res.x)
         tolerance = options["tol"] * max(1.0, form.scene.wire.length)
-        grown = [block.grow(form.model, phi, tolerance) for block in form.blocks]
-        if all(g is None for g in grown):
+        refined = [block.refine(form.model, phi, tolerance) for block in form.blocks]
+        if all(r is None for r in refined):
             break
-        blocks = [b if g is None else g for b, g in zip(form.blocks, grown, strict=True)]
+        blocks = [b if r is None else r for b, r in zip(form.blocks, refined, strict=True)]
+        previous = form
         form = assemble(replace(form.model, x0=phi), form.layout.name, blocks)
-        multipliers0 = None
+        multipliers0 = form.multipliers0(previous.blocks, previous.multipliers(res))
     return form, res

@@ -6,11 +6,12 @@ and one more entry here."""
 
 from .angle import Angle
 from .base import AngleRows, Block, Loads, NodeRows, Rows
+from .lumen import Lumen
 from .position import Position
 from .relative_angle import RelativeAngle
 from .wall import Wall
 
-BLOCK_TYPES: tuple[type[Block], ...] = (Position, Angle, Wall, RelativeAngle)
+BLOCK_TYPES: tuple[type[Block], ...] = (Position, Angle, Wall, Lumen, RelativeAngle)
 
-__all__ = ["BLOCK_TYPES", "Angle", "AngleRows", "Block", "Loads", "NodeRows", "Position", "RelativeAngle", "Rows",
-           "Wall"]
+__all__ = ["BLOCK_TYPES", "Angle", "AngleRows", "Block", "Loads", "Lumen", "NodeRows", "Position", "RelativeAngle",
+           "Rows", "Wall"]

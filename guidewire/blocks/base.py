@@ -174,8 +174,10 @@ class Block:
             values = rows.values(phi)
         return row_violation(values, rows.lb, rows.ub)
 
-    def grow(self, model: Model, phi: FloatArray, tolerance: float) -> Block | None:
-        """A block with more rows when the working set misses a violated row at ``phi`` (default: never)."""
+    def refine(self, model: Model, phi: FloatArray, tolerance: float) -> Block | None:
+        """A block whose rows fit the answer ``phi`` better — its working set grown by the rows ``phi`` violates, or
+        its linearisation moved to ``phi`` — or None when its rows are right at ``phi`` (default: always right).
+        :func:`guidewire.solve` solves again from ``phi`` while any block refines."""
         return None
 
     def with_index(self, index: int) -> Block:

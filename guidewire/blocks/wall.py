@@ -3,7 +3,7 @@
 Rows are written as ``−n̂ · p_k ≥ −offset`` (a lower bound), so the multiplier ``λ_k ≥ 0`` is the magnitude of the
 wall's push on node ``k`` and ``λ_k d = −λ_k n̂`` its force. The base node is fixed and checked once, before solving.
 A wall constrains a *working set* of nodes: those of the start within :data:`WORKING_DISTANCE` ``× L`` of it, grown
-by :meth:`Wall.grow` with every node found violating it (and its neighbours) until none does."""
+by :meth:`Wall.refine` with every node found violating it (and its neighbours) until none does."""
 
 from __future__ import annotations
 
@@ -72,7 +72,7 @@ class Wall(Block):
         points = model.chain.nodes(phi) if points is None else points
         return np.maximum(-self.gaps(model, points), 0.0)
 
-    def grow(self, model: Model, phi: FloatArray, tolerance: float) -> Block | None:
+    def refine(self, model: Model, phi: FloatArray, tolerance: float) -> Block | None:
         violated = np.flatnonzero(self.gaps(model, model.chain.nodes(phi)) < -tolerance) + 1
         if not violated.size:
             return None

@@ -1,0 +1,179 @@
+"""Quasi-static insertion through a vessel: the wire advanced step by step, new wire appearing at the entrance.
+
+Each step is one :func:`guidewire.solve` of the scene with the inserted length of that step, warm-started from the
+previous step's shape: the previous bar angles carried along with the material (the wire moved by the inserted
+length ``ΔL``), the first ``ΔL`` along the vessel's centreline (or the base tangent without a vessel). When a warm
+step fails (a head-on contact can leave the linearised constraints blind: the wall gradient vanishes along the
+push), the step is solved again from the default start (cold), and the step says so.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .result import UNITS, Solution
+from .scene import Scene
+from .scene_file import scene_to_dict
+from .solve import solve
+
+FloatArray = NDArray[np.float64]
+
+#: A wall or lumen row carries a contact when its normal force exceeds this (N).
+CONTACT_FORCE = 1e-9
+
+
+@dataclass(frozen=True)
+class Insertion:
+    """The steps of :func:`insert`.
+
+    Attributes
+    ----------
+    lengths : tuple of float
+        Inserted length of every step asked for (mm).
+    steps : list of Solution
+        One per step solved, in order (a failed solve is a step too: it says why and carries no forces).
+    started : list of str
+        How each step was started: ``"cold"`` (the default start), ``"warm"`` (the previous shape), or
+        ``"warm, then cold"`` (the warm solve failed and the cold one gave the step).
+    error : str or None
+        Why the insertion stopped early (a step's scene refused before solving), else None.
+    """
+
+    lengths: tuple[float, ...]
+    steps: list[Solution]
+    started: list[str]
+    error: str | None = None
+
+    @property
+    def complete(self) -> bool:
+        return self.error is None and len(self.steps) == len(self.lengths)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: ``units``, ``scene`` (the first step's), and ``steps`` (see :func:`step_record`)."""
+        return {
+            "units": UNITS, "scene": scene_to_dict(self.steps[0].scene) if self.steps else None,
+            "complete": self.complete, "error": self.error,
+            "steps": [dict(step_record(sol), started=how) for sol, how in zip(self.steps, self.started, strict=True)],
+        }
+
+
+def contacts_found(sol: Solution) -> list[dict[str, Any]]:
+    """The wall and lumen contacts of a solution: ``{node, s, point, normal, force_n}`` per touching node, with
+    ``normal`` the wall's outward unit normal and ``force_n`` the normal force (N) on the wire (along ``−normal``);
+    empty for a failed solve (no forces)."""
+    if not sol.success:
+        return []
+    out = []
+    for block, lam in zip(sol.blocks, sol.multipliers, strict=True):
+        if block.kind == "wall":
+            normal, _ = sol.scene.walls[block.members[0]].unit()
+            normals = np.tile(np.asarray(normal, dtype=float), (block.size, 1))
+        elif block.kind == "lumen":
+            normals = block.normals
+        else:
+            continue
+        for k, force, n in zip(block.nodes, lam, normals, strict=True):
+            if force > CONTACT_FORCE:
+                out.append({"node": int(k), "s": float(sol.s[k]), "point": sol.nodes[k].tolist(),
+                            "normal": [float(n[0]), float(n[1])], "force_n": float(force)})
+    return sorted(out, key=lambda c: c["node"])
+
+
+def entrance_force(sol: Solution) -> float | None:
+    """The axial force (N) the base exerts on the wire along its tangent: the push a clinician feels at the
+    entrance (positive pushing the wire in); None for a failed solve or a base without a tangent."""
+    base = sol.reactions[0]
+    angle = sol.scene.base.angle if sol.scene.base.angle is not None else float(sol.bar_angles[0])
+    if base.force is None:
+        return None
+    return float(base.force[0] * math.cos(angle) + base.force[1] * math.sin(angle))
+
+
+def step_record(sol: Solution) -> dict[str, Any]:
+    """One insertion step as JSON-ready values (the keys of the vessel issue's ``insert`` output)."""
+    tip_angle = float(sol.tangent_angles[-1])
+    return {
+        "inserted_length": float(sol.scene.wire.length), "bars": sol.n_bars, "success": sol.success,
+        "status": sol.status, "message": sol.message, "energy": sol.energy, "nodes": sol.nodes.tolist(),
+        "contacts": contacts_found(sol), "tip": {"point": sol.nodes[-1].tolist(), "angle": tip_angle},
+        "entrance_force_n": entrance_force(sol), "max_bending_stress_mpa": float(np.max(sol.bending_stress_mpa)),
+        "iterations": sol.iterations, "solve_time_s": sol.solve_time_s,
+    }
+
+
+def _advanced_angles(prev: Solution, scene: Scene, bars: int) -> FloatArray:
+    """Start angles for ``scene`` from the previous step: the material at arc length ``s`` was at ``s − ΔL``; the new
+    first ``ΔL`` follows the vessel's centreline (or the base tangent)."""
+    length = scene.wire.length
+    s_mid = (np.arange(bars) + 0.5) * (length / bars)
+    shift = length - float(prev.s[-1])
+    s_old = 0.5 * (prev.s[1:] + prev.s[:-1])
+    carried = np.interp(s_mid - shift, s_old, prev.bar_angles)
+    vessel = getattr(scene, "vessel", None)
+    if vessel is not None:
+        _, fresh = vessel.path(s_mid)
+        fresh = np.unwrap(np.asarray(fresh, dtype=float))
+        fresh += 2.0 * math.pi * round((prev.bar_angles[0] - fresh[0]) / (2.0 * math.pi))
+    else:
+        fresh = np.full(bars, prev.bar_angles[0] if scene.base.angle is None else scene.base.angle)
+    return np.where(s_mid < shift, fresh, carried)
+
+
+def insert(scene: Scene, lengths: Iterable[float], **options: Any) -> Insertion:
+    """Advance the wire of ``scene`` through the inserted ``lengths`` (mm, increasing), one quasi-static solve each.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (a vessel, walls, contacts); its ``wire.bars / wire.length`` is kept as the bar density.
+    lengths : iterable of float
+        Inserted lengths (mm), strictly increasing and positive.
+    **options
+        Passed to :func:`guidewire.solve` (``hessian``, ``qp_solver``, ``tol``, ``max_iter``, ...); not ``bars``,
+        ``initial_angles`` or ``multipliers0`` (the insertion sets them).
+
+    Returns
+    -------
+    Insertion
+        Every step solved, in order; a step refused before solving (e.g. infeasible) ends it with ``error`` set.
+
+    Raises
+    ------
+    ValueError
+        For lengths that are not positive and strictly increasing, or options the insertion sets itself.
+    """
+    values = tuple(float(v) for v in lengths)
+    if not values:
+        raise ValueError("lengths is empty; give the inserted lengths (mm), e.g. numpy.arange(10, 101, 1.0).")
+    if not all(math.isfinite(v) and v > 0 for v in values) or any(b <= a for a, b in zip(values, values[1:], strict=False)):
+        raise ValueError("lengths must be positive and strictly increasing (mm); an insertion step must be positive.")
+    for name in ("bars", "initial_angles", "initial_nodes", "multipliers0"):
+        if name in options:
+            raise ValueError(f"{name} is set by insert() for every step; pass the scene with the bar density you want.")
+    density = scene.wire.bars / scene.wire.length
+    steps: list[Solution] = []
+    started: list[str] = []
+    for length in values:
+        bars = max(1, int(round(length * density)))
+        step_scene = scene.with_wire(length=length, bars=bars)
+        try:
+            if not steps:
+                sol, how = solve(step_scene, **options), "cold"
+            else:
+                sol = solve(step_scene, initial_angles=_advanced_angles(steps[-1], step_scene, bars), **options)
+                how = "warm"
+                if not sol.success:
+                    cold = solve(step_scene, **options)
+                    if cold.success:
+                        sol, how = cold, "warm, then cold"
+        except (ValueError, TypeError) as exc:
+            return Insertion(values, steps, started, f"step at {length:g} mm: {exc}")
+        steps.append(sol)
+        started.append(how)
+    return Insertion(values, steps, started)

@@ -151,7 +151,8 @@ def insert(scene: Scene, lengths: Iterable[float], **options: Any) -> Insertion:
     values = tuple(float(v) for v in lengths)
     if not values:
         raise ValueError("lengths is empty; give the inserted lengths (mm), e.g. numpy.arange(10, 101, 1.0).")
-    if not all(math.isfinite(v) and v > 0 for v in values) or any(b <= a for a, b in zip(values, values[1:], strict=False)):
+    increasing = all(b > a for a, b in zip(values, values[1:], strict=False))
+    if not all(math.isfinite(v) and v > 0 for v in values) or not increasing:
         raise ValueError("lengths must be positive and strictly increasing (mm); an insertion step must be positive.")
     for name in ("bars", "initial_angles", "initial_nodes", "multipliers0"):
         if name in options:

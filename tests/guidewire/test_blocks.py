@@ -20,7 +20,7 @@ SCENES = paper_scenes()
 
 
 def test_registry_holds_one_type_per_kind():
-    assert [t.kind for t in BLOCK_TYPES] == ["position", "angle", "wall", "relative_angle"]
+    assert [t.kind for t in BLOCK_TYPES] == ["position", "angle", "wall", "lumen", "relative_angle"]
 
 
 @pytest.mark.parametrize(("name", "scheme", "b2"), [("table1_pi_4", "paper", 0.05), ("fig6a", "second_order", None),

@@ -1,4 +1,5 @@
-"""Command line: ``python -m guidewire solve SCENE.toml`` and ``python -m guidewire paper --out DIR``.
+"""Command line: ``python -m guidewire solve SCENE.toml``, ``python -m guidewire insert SCENE.toml --to L --step DL``
+and ``python -m guidewire paper --out DIR``.
 
 Exit status: 0 success; 1 the solver did not converge (the JSON is still written; its ``status``/``message`` say
 why) or, for ``paper``, some feasible scene did not converge; 2 bad input (one line on stderr, no traceback), checked
@@ -28,6 +29,7 @@ from .scene_file import load_scene
 
 if TYPE_CHECKING:
     from .result import Solution
+    from .scene import Scene
 
 EXIT_OK, EXIT_NOT_CONVERGED, EXIT_BAD_INPUT = 0, 1, 2
 
@@ -58,6 +60,25 @@ QP_SOLVER_HELP = (
     "QP backend: 'auto' (default) picks DAQP up to 300 variables, PIQP for larger programs whose rows are all "
     "sparse, Clarabel for larger programs with dense rows; or an installed qpsolvers backend: {}"
 )
+
+
+def _positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not (value > 0 and np.isfinite(value)):
+        raise argparse.ArgumentTypeError(f"{text} must be a positive length in mm")
+    return value
+
+
+def _gif_path(text: str) -> Path:
+    """``--gif``'s file: a ``.gif`` (written by matplotlib's Pillow writer)."""
+    path = Path(text)
+    if path.suffix.lower() != ".gif":
+        raise argparse.ArgumentTypeError(f"{text!r} is not a .gif file")
+    _figure_path(str(path.with_suffix(".png")))  # matplotlib is needed
+    return path
 
 
 def _figure_path(text: str) -> Path:
@@ -104,6 +125,18 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--tol", type=float, default=1e-8, help="SQP tolerance")
     run.add_argument("--reference", action="store_true", help="overlay the continuum reference in --plot")
     run.add_argument("--verbose", action="store_true", help="print the SQP iteration table")
+    ins = sub.add_parser("insert", help="advance the wire of a scene quasi-statically (a vessel, walls, contacts)")
+    ins.add_argument("scene", type=Path, help="scene file (TOML); its wire.length is the first inserted length "
+                     "unless --from says otherwise, its bars per mm are kept")
+    ins.add_argument("--to", type=_positive_float, required=True, help="last inserted length (mm)")
+    ins.add_argument("--step", type=_positive_float, required=True, help="insertion step (mm)")
+    ins.add_argument("--from", dest="start", type=_positive_float, help="first inserted length (mm)")
+    ins.add_argument("--json", type=Path, help="write every step as JSON (units, steps: contacts, tip, forces)")
+    ins.add_argument("--plot", type=_figure_path, help="write the last shape and force/energy against length")
+    ins.add_argument("--gif", type=_gif_path, help="write an animation of the insertion (.gif)")
+    _add_qp_solver(ins)
+    ins.add_argument("--max-iter", type=_positive_int, default=500, help="SQP iteration limit per step")
+    ins.add_argument("--tol", type=float, default=1e-8, help="SQP tolerance")
     paper = sub.add_parser("paper", help="reproduce every scene of the paper (figures + table)")
     paper.add_argument("--out", type=Path, required=True, help="output directory")
     _add_qp_solver(paper)
@@ -133,17 +166,58 @@ def _summary(sol: Solution) -> str:
     return "\n".join(lines)
 
 
+def _load(path: Path) -> Scene:
+    try:
+        return load_scene(path)
+    except FileNotFoundError:
+        raise BadInput(f"{path}: no such scene file") from None
+    except OSError as exc:
+        raise BadInput(f"{path}: {exc.strerror}") from None
+    except ValueError as exc:  # the message already names the file and the field
+        raise BadInput(str(exc)) from None
+
+
+def _insert(args: argparse.Namespace) -> int:
+    from .insertion import insert, step_record
+
+    scene = _load(args.scene)
+    first = scene.wire.length if args.start is None else args.start
+    if args.to < first:
+        raise BadInput(f"--to {args.to:g} is shorter than the first inserted length {first:g} mm")
+    lengths = np.arange(first, args.to + 0.5 * args.step, args.step)
+    start_scene = scene.with_wire(length=first, bars=max(1, round(first * scene.wire.bars / scene.wire.length)))
+    try:
+        out = insert(start_scene, lengths, qp_solver=_qp_solver(args), tol=args.tol, max_iter=args.max_iter)
+    except (ValueError, TypeError) as exc:
+        raise BadInput(f"{args.scene}: {exc}") from None
+    for sol, how in zip(out.steps, out.started, strict=True):
+        rec = step_record(sol)
+        force = rec["entrance_force_n"]
+        print(f"L = {rec['inserted_length']:8.3f} mm  {'ok' if sol.success else 'FAILED':6s}  E = {sol.energy:10.5g} "
+              f"N·mm  contacts {len(rec['contacts']):3d}  push {'-' if force is None else f'{force:+.4g} N':>11s}  "
+              f"{sol.iterations:3d} it  {1e3 * sol.solve_time_s:7.1f} ms  ({how})"
+              + ("" if sol.success else f"  {sol.message}"))
+    if out.error is not None:
+        print(f"stopped: {out.error}", file=sys.stderr)
+    if args.json is not None:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps(out.to_dict(), indent=1))
+    if out.steps and (args.plot is not None or args.gif is not None):
+        from .plot_insertion import plot_insertion, save_animation
+
+        if args.plot is not None:
+            args.plot.parent.mkdir(parents=True, exist_ok=True)
+            plot_insertion(out).savefig(args.plot, dpi=130)
+        if args.gif is not None:
+            args.gif.parent.mkdir(parents=True, exist_ok=True)
+            save_animation(out, args.gif)
+    return EXIT_OK if out.complete and all(s.success for s in out.steps) else EXIT_NOT_CONVERGED
+
+
 def _solve(args: argparse.Namespace) -> int:
     from .solve import solve
 
-    try:
-        scene = load_scene(args.scene)
-    except FileNotFoundError:
-        raise BadInput(f"{args.scene}: no such scene file") from None
-    except OSError as exc:
-        raise BadInput(f"{args.scene}: {exc.strerror}") from None
-    except ValueError as exc:  # the message already names the file and the field
-        raise BadInput(str(exc)) from None
+    scene = _load(args.scene)
     try:
         sol = solve(scene, scheme=args.scheme, bars=args.bars, qp_solver=_qp_solver(args), tol=args.tol,
                     max_iter=args.max_iter, verbose=args.verbose)
@@ -184,7 +258,7 @@ def _paper(args: argparse.Namespace) -> int:
 def _run(argv: Sequence[str] | None) -> int:
     try:
         args = build_parser().parse_args(argv)
-        return _solve(args) if args.command == "solve" else _paper(args)
+        return {"solve": _solve, "insert": _insert, "paper": _paper}[args.command](args)
     except BadInput as exc:
         print("error: " + " ".join(str(exc).split()), file=sys.stderr)
         return EXIT_BAD_INPUT

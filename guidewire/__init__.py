@@ -14,6 +14,7 @@ paper's scenes), :mod:`~guidewire.plot` (figures, needs matplotlib), :mod:`~guid
 """
 
 from .formulation import Formulation, formulate
+from .insertion import Insertion, insert
 from .paper import paper_groups, paper_scenes
 from .result import Reaction, Solution
 from .scene import Base, Contact, Scene, Wall, Wire
@@ -25,6 +26,7 @@ __all__ = [
     "Base",
     "Contact",
     "Formulation",
+    "Insertion",
     "Reaction",
     "Scene",
     "SequenceResult",
@@ -32,6 +34,7 @@ __all__ = [
     "Wall",
     "Wire",
     "formulate",
+    "insert",
     "load_scene",
     "paper_groups",
     "paper_scenes",

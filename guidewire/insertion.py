@@ -24,10 +24,6 @@ from .solve import solve
 
 FloatArray = NDArray[np.float64]
 
-#: A wall or lumen row carries a contact when its normal force exceeds this (N).
-CONTACT_FORCE = 1e-9
-
-
 @dataclass(frozen=True)
 class Insertion:
     """The steps of :func:`insert`.
@@ -63,46 +59,14 @@ class Insertion:
         }
 
 
-def contacts_found(sol: Solution) -> list[dict[str, Any]]:
-    """The wall and lumen contacts of a solution: ``{node, s, point, normal, force_n}`` per touching node, with
-    ``normal`` the wall's outward unit normal and ``force_n`` the normal force (N) on the wire (along ``−normal``);
-    empty for a failed solve (no forces)."""
-    if not sol.success:
-        return []
-    out = []
-    for block, lam in zip(sol.blocks, sol.multipliers, strict=True):
-        if block.kind == "wall":
-            normal, _ = sol.scene.walls[block.members[0]].unit()
-            normals = np.tile(np.asarray(normal, dtype=float), (block.size, 1))
-        elif block.kind == "lumen":
-            normals = block.normals
-        else:
-            continue
-        for k, force, n in zip(block.nodes, lam, normals, strict=True):
-            if force > CONTACT_FORCE:
-                out.append({"node": int(k), "s": float(sol.s[k]), "point": sol.nodes[k].tolist(),
-                            "normal": [float(n[0]), float(n[1])], "force_n": float(force)})
-    return sorted(out, key=lambda c: c["node"])
-
-
-def entrance_force(sol: Solution) -> float | None:
-    """The axial force (N) the base exerts on the wire along its tangent: the push a clinician feels at the
-    entrance (positive pushing the wire in); None for a failed solve or a base without a tangent."""
-    base = sol.reactions[0]
-    angle = sol.scene.base.angle if sol.scene.base.angle is not None else float(sol.bar_angles[0])
-    if base.force is None:
-        return None
-    return float(base.force[0] * math.cos(angle) + base.force[1] * math.sin(angle))
-
-
 def step_record(sol: Solution) -> dict[str, Any]:
     """One insertion step as JSON-ready values (the keys of the vessel issue's ``insert`` output)."""
     tip_angle = float(sol.tangent_angles[-1])
     return {
         "inserted_length": float(sol.scene.wire.length), "bars": sol.n_bars, "success": sol.success,
         "status": sol.status, "message": sol.message, "energy": sol.energy, "nodes": sol.nodes.tolist(),
-        "contacts": contacts_found(sol), "tip": {"point": sol.nodes[-1].tolist(), "angle": tip_angle},
-        "entrance_force_n": entrance_force(sol), "max_bending_stress_mpa": float(np.max(sol.bending_stress_mpa)),
+        "contacts": sol.contacts(), "tip": {"point": sol.nodes[-1].tolist(), "angle": tip_angle},
+        "entrance_force_n": sol.entrance_force(), "max_bending_stress_mpa": float(np.max(sol.bending_stress_mpa)),
         "iterations": sol.iterations, "solve_time_s": sol.solve_time_s,
     }
 

@@ -9,14 +9,14 @@ from typing import Any
 
 import numpy as np
 
-from .insertion import Insertion, contacts_found, entrance_force
+from .insertion import Insertion
 from .plot import _matplotlib, plot_panel
 from .result import Solution
 
 
 def draw_contact_forces(ax: Any, sol: Solution, *, scale: float | None = None) -> None:
     """Arrows of the wall/lumen contact forces on the wire (length ∝ force; ``scale`` mm per N)."""
-    contacts = contacts_found(sol)
+    contacts = sol.contacts()
     if not contacts:
         return
     forces = np.array([c["force_n"] for c in contacts])
@@ -45,7 +45,7 @@ def plot_insertion(insertion: Insertion) -> Any:
     if lines is not None:
         fig.colorbar(lines, ax=ax_shape, label="bending stress σ (MPa)", shrink=0.8)
     length = np.array([s.scene.wire.length for s in steps])
-    force = np.array([np.nan if entrance_force(s) is None else entrance_force(s) for s in steps])
+    force = np.array([np.nan if s.entrance_force() is None else s.entrance_force() for s in steps])
     energy = np.array([s.energy if s.success else np.nan for s in steps])
     ax_force.plot(length, force, "-", color="tab:blue", label="entrance force (N)")
     ax_force.set_xlabel("inserted length (mm)")

@@ -177,6 +177,36 @@ class Solution:
         arms = self.nodes - base
         return float(total + np.sum(arms[:, 0] * self.wall_forces[:, 1] - arms[:, 1] * self.wall_forces[:, 0]))
 
+    def contacts(self) -> list[dict[str, Any]]:
+        """The wall and lumen contacts found: ``{node, s, point, normal, force_n}`` per touching node (force above
+        :data:`CONTACT_FORCE`), ``normal`` the wall's outward unit normal and ``force_n`` the normal force (N) on
+        the wire, along ``−normal``; empty for a failed solve (no forces)."""
+        if not self.success:
+            return []
+        out = []
+        for block, lam in zip(self.blocks, self.multipliers, strict=True):
+            if block.kind == "wall":
+                normal, _ = self.scene.walls[block.members[0]].unit()
+                normals = np.tile(np.asarray(normal, dtype=float), (block.size, 1))
+            elif block.kind == "lumen":
+                normals = block.normals
+            else:
+                continue
+            for k, force, n in zip(block.nodes, lam, normals, strict=True):
+                if force > CONTACT_FORCE:
+                    out.append({"node": int(k), "s": float(self.s[k]), "point": self.nodes[k].tolist(),
+                                "normal": [float(n[0]), float(n[1])], "force_n": float(force)})
+        return sorted(out, key=lambda c: c["node"])
+
+    def entrance_force(self) -> float | None:
+        """The axial force (N) the base exerts on the wire along its tangent: the push a clinician feels at the
+        entrance (positive pushing the wire in); None for a failed solve."""
+        base = self.reactions[0]
+        if base.force is None:
+            return None
+        angle = self.scene.base.angle if self.scene.base.angle is not None else float(self.bar_angles[0])
+        return float(base.force[0] * np.cos(angle) + base.force[1] * np.sin(angle))
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready values (lists and numbers); ``units`` names the unit of every quantity, ``scene`` is the
         scene's geometry as a scene file holds it (:func:`guidewire.scene_file.scene_to_dict`)."""
@@ -192,8 +222,14 @@ class Solution:
             "base_reaction": self.reactions[0].to_dict(),
             "contact_reactions": [r.to_dict() for r in self.reactions[1:]],
             "wall_forces": None if self.wall_forces is None else self.wall_forces.tolist(),
+            "contacts": self.contacts(), "tip": {"point": self.nodes[-1].tolist(),
+                                                 "angle": float(self.tangent_angles[-1])},
+            "entrance_force_n": self.entrance_force(),
         }
 
+
+#: A wall or lumen row carries a contact when its normal force exceeds this (N).
+CONTACT_FORCE = 1e-9
 
 #: The unit of every quantity in :meth:`Solution.to_dict` (and in the scene's geometry).
 UNITS = {

@@ -1,0 +1,81 @@
+"""Quasi-static insertion: a head-on push into a wall runs through, warm steps agree with cold solves, forces
+balance, every step is data, bad input is refused; the CLI's insert command."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from guidewire import insert, paper_scenes, solve
+from guidewire.crossing import crossing_bars
+
+FIG6B = paper_scenes()["fig6b"]  # clamp at O along +x, the wall x ≤ 45 straight ahead
+
+
+@pytest.fixture(scope="module")
+def head_on():
+    return insert(FIG6B.with_wire(length=30.0, bars=30), np.arange(30.0, 101.0, 5.0))
+
+
+def test_head_on_push_into_a_wall_runs_through(head_on):
+    """The issue's sequence once ended every step after contact INFEASIBLE in 0 iterations with E = 0 and wall
+    "forces" of 2e11 N; now every step converges to the cold solve's answer."""
+    assert head_on.complete and all(s.success for s in head_on.steps)
+    for sol in head_on.steps:
+        cold = solve(sol.scene)
+        assert sol.energy == pytest.approx(cold.energy, rel=1e-7, abs=1e-12)
+        assert np.max(sol.nodes[:, 0]) <= 45.0 + 1e-9 and crossing_bars(sol.nodes) is None
+    energies = [s.energy for s in head_on.steps]
+    assert energies[0] == 0.0 and all(b >= a - 1e-12 for a, b in zip(energies, energies[1:], strict=False))
+
+
+def test_forces_of_an_insertion_step_balance(head_on):
+    sol = head_on.steps[-1]
+    contacts = sol.contacts()
+    assert contacts and all(c["force_n"] > 0 and c["normal"] == [1.0, 0.0] for c in contacts)
+    total = sum(-c["force_n"] * np.asarray(c["normal"]) for c in contacts)
+    assert np.allclose(total + sol.reactions[0].force, 0.0, atol=1e-9)  # the base balances the wall
+    assert abs(sol.moment_balance()) < 1e-6
+    assert sol.entrance_force() > 0  # the wire is pushed in against the wall
+    before_contact = head_on.steps[1]  # 35 mm: the wire has not reached the wall
+    assert before_contact.contacts() == [] and before_contact.entrance_force() == pytest.approx(0.0, abs=1e-12)
+
+
+def test_insertion_json_has_the_step_keys(head_on):
+    data = json.loads(json.dumps(head_on.to_dict()))
+    step = data["steps"][-1]
+    for key in ("inserted_length", "success", "status", "message", "energy", "nodes", "contacts", "tip",
+                "entrance_force_n", "iterations", "solve_time_s"):
+        assert key in step
+    assert data["units"]["force"] == "N" and step["inserted_length"] == 100.0 and len(step["nodes"]) == 101
+    assert set(step["contacts"][0]) == {"node", "s", "point", "normal", "force_n"}
+
+
+def test_bad_insertions_are_refused():
+    with pytest.raises(ValueError, match="strictly increasing"):
+        insert(FIG6B, [50.0, 40.0])
+    with pytest.raises(ValueError, match="strictly increasing"):
+        insert(FIG6B, [-1.0, 10.0])
+    with pytest.raises(ValueError, match="lengths is empty"):
+        insert(FIG6B, [])
+    with pytest.raises(ValueError, match="bars is set by insert"):
+        insert(FIG6B, [50.0], bars=10)
+
+
+def test_cli_insert(tmp_path):
+    scene = "guidewire/scenes/fig6b.toml"
+    run = subprocess.run([sys.executable, "-m", "guidewire", "insert", scene, "--from", "40", "--to", "50",
+                          "--step", "5", "--json", str(tmp_path / "ins.json")], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert len(run.stdout.strip().splitlines()) == 3
+    assert len(json.loads((tmp_path / "ins.json").read_text())["steps"]) == 3
+    bad = subprocess.run([sys.executable, "-m", "guidewire", "insert", scene, "--to", "50", "--step", "0"],
+                         capture_output=True, text=True)
+    assert bad.returncode == 2 and "positive length" in bad.stderr
+    gif = subprocess.run([sys.executable, "-m", "guidewire", "insert", scene, "--to", "120", "--step", "5", "--gif",
+                          str(tmp_path / "a.png")], capture_output=True, text=True)
+    assert gif.returncode == 2 and "not a .gif" in gif.stderr

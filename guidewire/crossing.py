@@ -49,10 +49,13 @@ def _candidate_pairs(a: FloatArray, b: FloatArray, cell: float) -> tuple[NDArray
     cx = np.stack((lo[:, 0], hi[:, 0], lo[:, 0], hi[:, 0]), axis=1)
     cy = np.stack((lo[:, 1], lo[:, 1], hi[:, 1], hi[:, 1]), axis=1)
     bars = np.repeat(np.arange(n), 4)
-    keys = np.stack((cx.ravel(), cy.ravel(), bars), axis=1)
-    keys = np.unique(keys, axis=0)  # sorted by cell, then bar; a bar once per cell
-    cell_id, bar = keys[:, :2], keys[:, 2]
-    same_cell_run = np.r_[True, np.any(cell_id[1:] != cell_id[:-1], axis=1)]
+    # one integer key per (cell, bar), sorted: equal cells are runs, and within a run the bars increase
+    x, y = cx.ravel(), cy.ravel()
+    x, y = x - x.min(), y - y.min()
+    key = (x * (int(y.max()) + 1) + y) * n + bars
+    key = np.unique(key)  # sorted, a bar once per cell
+    cell_of, bar = key // n, key % n
+    same_cell_run = np.r_[True, cell_of[1:] != cell_of[:-1]]
     group = np.cumsum(same_cell_run) - 1
     first, out_i, out_j = np.flatnonzero(same_cell_run), [], []
     size = np.diff(np.r_[first, bar.size])
@@ -64,8 +67,8 @@ def _candidate_pairs(a: FloatArray, b: FloatArray, cell: float) -> tuple[NDArray
         return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
     i, j = np.concatenate(out_i), np.concatenate(out_j)
     keep = j >= i + 2
-    pairs = np.unique(np.stack((i[keep], j[keep]), axis=1), axis=0)
-    return pairs[:, 0], pairs[:, 1]
+    pairs = np.unique(i[keep].astype(np.int64) * n + j[keep])
+    return pairs // n, pairs % n
 
 
 def _cross(u: FloatArray, v: FloatArray) -> FloatArray:

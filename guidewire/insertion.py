@@ -1,8 +1,9 @@
 """Quasi-static insertion through a vessel: the wire advanced step by step, new wire appearing at the entrance.
 
 Each step is one :func:`guidewire.solve` of the scene with the inserted length of that step, warm-started from the
-previous step's shape: the previous bar angles carried along with the material (the wire moved by the inserted
-length ``ΔL``), the first ``ΔL`` along the vessel's centreline (or the base tangent without a vessel). When a warm
+previous step's shape and multipliers: the previous bar angles carried along with the material (the wire moved by
+the inserted length ``ΔL``), the first ``ΔL`` along the vessel's centreline (or the base tangent without a vessel),
+the wall and lumen rows' multipliers moved with their nodes. When a warm
 step fails (a head-on contact can leave the linearised constraints blind: the wall gradient vanishes along the
 push), the step is solved again from the default start (cold), and the step says so.
 """
@@ -11,7 +12,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -89,6 +90,14 @@ def _advanced_angles(prev: Solution, scene: Scene, bars: int) -> FloatArray:
     return np.where(s_mid < shift, fresh, carried)
 
 
+def _advanced_multipliers(prev: Solution, bars: int) -> Solution:
+    """The previous step as a warm start for the multipliers: node rows (walls, lumen) moved with the material, by
+    the number of bars inserted (contacts and angle rows stay with their contact)."""
+    shift = bars - prev.n_bars
+    moved = tuple(replace(b, nodes=b.nodes + shift) if b.kind in ("wall", "lumen") else b for b in prev.blocks)
+    return replace(prev, blocks=moved)
+
+
 def insert(scene: Scene, lengths: Iterable[float], **options: Any) -> Insertion:
     """Advance the wire of ``scene`` through the inserted ``lengths`` (mm, increasing), one quasi-static solve each.
 
@@ -131,7 +140,8 @@ def insert(scene: Scene, lengths: Iterable[float], **options: Any) -> Insertion:
             if not steps:
                 sol, how = solve(step_scene, **options), "cold"
             else:
-                sol = solve(step_scene, initial_angles=_advanced_angles(steps[-1], step_scene, bars), **options)
+                sol = solve(step_scene, initial_angles=_advanced_angles(steps[-1], step_scene, bars),
+                            multipliers0=_advanced_multipliers(steps[-1], bars), **options)
                 how = "warm"
                 if not sol.success:
                     cold = solve(step_scene, **options)

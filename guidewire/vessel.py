@@ -45,8 +45,9 @@ SAMPLE_SPACING = 0.5
 """Largest spacing (mm) of the fine sampling used to start the closest-point search; smaller for narrow or tightly
 bent tubes (a quarter of the least radius, a quarter of the least bend radius)."""
 
-NEWTON_STEPS = 4
-"""Newton steps on the spline parameter after the nearest sample (quadratic convergence from within one spacing)."""
+NEWTON_STEPS = 3
+"""Newton steps on the spline parameter after the nearest sample (quadratic convergence from within one spacing:
+~1e-3, 1e-6, 1e-12 of a spacing)."""
 
 BEND_LIMIT = 1.0
 """A tube whose centreline curvature times radius reaches this anywhere overlaps itself there (refused)."""
@@ -267,7 +268,8 @@ class _Tubes:
             start += c.hi + 1.0
         self.offsets = np.asarray(offsets)
         self.breaks = np.concatenate(breaks)
-        self.coef = np.concatenate(coefs[:-1], axis=1)
+        coef = np.concatenate(coefs[:-1], axis=1)
+        self.flat = np.ascontiguousarray(coef.transpose(1, 0, 2).reshape(-1, 12))  # (segment, 4 × (x, y, R))
         self.lo = self.offsets.copy()
         self.hi = self.offsets + np.array([c.hi for c in curves])
         self.first_seg = np.searchsorted(self.breaks, self.lo, side="right") - 1
@@ -284,62 +286,67 @@ class _Tubes:
         self.tail_radius = np.array([v[0, 2] for v, _, _ in tails])
 
     def evaluate(self, u: FloatArray, k: NDArray[np.intp]) -> tuple[FloatArray, FloatArray, FloatArray]:
-        j = np.clip(np.searchsorted(self.breaks, u, side="right") - 1, self.first_seg[k], self.last_seg[k])
+        """Value, first and second ``u``-derivatives of (x, y, R) of curve ``k`` at ``u``, each shape (m, 3)."""
+        j = np.minimum(np.maximum(np.searchsorted(self.breaks, u, side="right") - 1, self.first_seg[k]),
+                       self.last_seg[k])
         x = (u - self.breaks[j])[:, None]
-        c0, c1, c2, c3 = self.coef[:, j, :]
-        return ((c0 * x + c1) * x + c2) * x + c3, (3.0 * c0 * x + 2.0 * c1) * x + c2, 6.0 * c0 * x + 2.0 * c1
+        c = self.flat[j]
+        c0, c1, c2, c3 = c[:, 0:3], c[:, 3:6], c[:, 6:9], c[:, 9:12]
+        a = c0 * x
+        return ((a + c1) * x + c2) * x + c3, (3.0 * a + 2.0 * c1) * x + c2, 6.0 * a + 2.0 * c1
 
     def closest(self, p: FloatArray) -> dict[str, FloatArray]:
-        """For every curve k and point i (flattened k-major, length T·m): the best parameter, the centre ``c``, the
-        radius ``R``, the offset ``v = p − c`` and its length ``r``, and where it came from (0 spline, 1 past the
-        head, 2 past the tail)."""
+        """For every curve k and point i (flattened k-major, length T·m): the best parameter ``u``, the centre ``c``,
+        the radius ``R``, the offset ``v = p − c`` and its length ``r``, where it came from (``source``: 0 the
+        spline, 1 past the head, 2 past the tail), and the curve's unit tangent ``t`` and signed curvature ``kappa``
+        there (0 on the straight continuations)."""
         m, t = len(p), len(self.curves)
-        u = np.concatenate([self.curves[k].u[tree.query(p)[1]] + self.offsets[k] for k, tree in enumerate(self.trees)])
-        k = np.repeat(np.arange(t), m)
-        q = np.tile(p, (t, 1))
+        if t == 1:
+            u, k, q = self.curves[0].u[self.trees[0].query(p)[1]], np.zeros(m, dtype=np.intp), p
+        else:
+            u = np.concatenate([self.curves[i].u[tree.query(p)[1]] + self.offsets[i]
+                                for i, tree in enumerate(self.trees)])
+            k, q = np.repeat(np.arange(t), m), np.tile(p, (t, 1))
         lo, hi, h = self.lo[k], self.hi[k], self.h[k]
-        for _ in range(NEWTON_STEPS):
+        for step_number in range(NEWTON_STEPS + 1):
             value, d1, d2 = self.evaluate(u, k)
+            if step_number == NEWTON_STEPS:
+                break
             v = q - value[:, :2]
             r = np.maximum(np.hypot(v[:, 0], v[:, 1]), 1e-300)
-            e = v / r[:, None]
-            ec1 = np.einsum("ij,ij->i", e, d1[:, :2])
+            ec1 = (v[:, 0] * d1[:, 0] + v[:, 1] * d1[:, 1]) / r
             grad = -ec1 - d1[:, 2]  # d/du of |p − c| − R
-            hess = (np.einsum("ij,ij->i", d1[:, :2], d1[:, :2]) - ec1**2) / r - np.einsum("ij,ij->i", e, d2[:, :2]) \
-                - d2[:, 2]
+            hess = ((d1[:, 0] ** 2 + d1[:, 1] ** 2 - ec1**2) / r - (v[:, 0] * d2[:, 0] + v[:, 1] * d2[:, 1]) / r
+                    - d2[:, 2])
             step = np.where(hess > 0.0, -grad / np.where(hess > 0.0, hess, 1.0), -np.sign(grad) * h)
-            u = np.clip(u + np.clip(step, -h, h), lo, hi)
-        value, _, _ = self.evaluate(u, k)
+            u = np.minimum(np.maximum(u + np.minimum(np.maximum(step, -h), h), lo), hi)
         centre, radius = value[:, :2], value[:, 2]
+        speed = np.hypot(d1[:, 0], d1[:, 1])
+        tangent = d1[:, :2] / speed[:, None]
+        kappa = (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / speed**3
         source = np.zeros(len(u), dtype=np.intp)
         # the straight continuations past open ends: project on the end's tangent line
-        for end, is_open, point, tangent, rad, sign in (
+        for end, is_open, point, direction, rad, sign in (
             (1, self.head_open, self.head_point, self.head_tangent, self.head_radius, -1.0),
             (2, self.tail_open, self.tail_point, self.tail_tangent, self.tail_radius, 1.0),
         ):
             if not is_open.any():
                 continue
-            lam = np.einsum("ij,ij->i", q - point[k], tangent[k])
-            foot = point[k] + lam[:, None] * tangent[k]
+            lam = np.einsum("ij,ij->i", q - point[k], direction[k])
+            past = is_open[k] & (sign * lam > 0.0)
+            if not past.any():
+                continue
+            foot = point[k] + lam[:, None] * direction[k]
             gain = (rad[k] - np.hypot(*(q - foot).T)) - (radius - np.hypot(*(q - centre).T))
-            better = is_open[k] & (sign * lam > 0.0) & (gain > 0.0)
+            better = past & (gain > 0.0)
             centre = np.where(better[:, None], foot, centre)
             radius = np.where(better, rad[k], radius)
+            tangent = np.where(better[:, None], direction[k], tangent)
+            kappa = np.where(better, 0.0, kappa)
             source = np.where(better, end, source)
         v = q - centre
         return {"u": u, "k": k, "centre": centre, "radius": radius, "v": v, "r": np.hypot(v[:, 0], v[:, 1]),
-                "source": source}
-
-    def tangent_normal(self, u: FloatArray, k: NDArray[np.intp], source: NDArray[np.intp]) -> tuple[FloatArray, ...]:
-        """Unit tangent, left unit normal and signed curvature of curve ``k`` at ``u`` (0 on the continuations)."""
-        _, d1, d2 = self.evaluate(u, k)
-        speed = np.hypot(d1[:, 0], d1[:, 1])
-        tangent = d1[:, :2] / speed[:, None]
-        tangent = np.where((source == 1)[:, None], self.head_tangent[k], tangent)
-        tangent = np.where((source == 2)[:, None], self.tail_tangent[k], tangent)
-        kappa = np.where(source == 0, (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / speed**3, 0.0)
-        normal = np.column_stack((-tangent[:, 1], tangent[:, 0]))
-        return tangent, normal, kappa
+                "source": source, "t": tangent, "kappa": kappa}
 
     def envelope(self, u: FloatArray, k: NDArray[np.intp], side: FloatArray) -> FloatArray:
         """Boundary points ``c + R e`` of tube ``k`` at ``u`` on ``side`` (+1 left, −1 right), where ``e`` makes the
@@ -600,6 +607,7 @@ class _TubeGeometry:
         self.centre_curves = curves
         # the entrance is capped (the first disk); branch junctions too (they lie inside the parent); far ends open
         self.tubes = _Tubes(curves, head_open=[False] * len(curves), tail_open=[True] * len(curves))
+        self.varying = np.array([np.ptp(rad) > 0.0 for _, rad, _ in lines])
         if len(curves) > 1:
             main_only = _Tubes(curves[:1], head_open=[False], tail_open=[True])
             start = np.array([c.samples[0] for c in curves[1:]])
@@ -616,24 +624,31 @@ class _TubeGeometry:
         tubes = self.tubes
         m, t = len(p), len(tubes.curves)
         best = tubes.closest(p)
-        value = (best["radius"] - best["r"]).reshape(t, m)
-        pick = np.argmax(value, axis=0)
-        flat = pick * m + np.arange(m)
+        if t == 1:
+            flat = np.arange(m)
+        else:
+            flat = np.argmax((best["radius"] - best["r"]).reshape(t, m), axis=0) * m + np.arange(m)
         u, k, source = best["u"][flat], best["k"][flat], best["source"][flat]
         v, r, radius, centre = best["v"][flat], best["r"][flat], best["radius"][flat], best["centre"][flat]
-        _, left, _ = tubes.tangent_normal(u, k, source)
+        tangent, kappa = best["t"][flat], best["kappa"][flat]
+        left = np.column_stack((-tangent[:, 1], tangent[:, 0]))
         on_axis = r <= 1e-12 * np.maximum(radius, 1.0)
         e = np.where(on_axis[:, None], left, v / np.where(on_axis, 1.0, r)[:, None])
         boundary = centre + radius[:, None] * e
-        # boundary curvature: the circle through three envelope points around u* (exact on a circular bend)
-        side = np.where(np.einsum("ij,ij->i", e, left) >= 0.0, 1.0, -1.0)
-        h = tubes.h[k]
-        mid = np.clip(u, tubes.lo[k] + h, tubes.hi[k] - h)
-        k3 = np.concatenate((k, k, k))
-        b = tubes.envelope(np.concatenate((mid - h, mid, mid + h)), k3, np.concatenate((side, side, side)))
-        curvature = side * _menger(b[:m], b[m:2 * m], b[2 * m:])
-        cap = (source == 0) & (u <= tubes.lo[k]) & (np.einsum("ij,ij->i", e, tubes.head_tangent[k]) < 0.0)
-        curvature = np.where(cap, -1.0 / radius, np.where(source > 0, 0.0, curvature))
+        side = np.where(e[:, 0] * left[:, 0] + e[:, 1] * left[:, 1] >= 0.0, 1.0, -1.0)
+        # boundary curvature: the offset curve's κ/(1 − side·R·κ) where the radius is constant (exact); where it
+        # varies, the circle through three points of the disks' envelope around u*
+        curvature = side * kappa / (1.0 - side * radius * kappa)
+        varying = self.varying[k] & (source == 0)
+        if varying.any():
+            i = np.flatnonzero(varying)
+            kv, h = k[i], tubes.h[k[i]]
+            mid = np.clip(u[i], tubes.lo[kv] + h, tubes.hi[kv] - h)
+            n = len(i)
+            b = tubes.envelope(np.concatenate((mid - h, mid, mid + h)), np.tile(kv, 3), np.tile(side[i], 3))
+            curvature[i] = side[i] * _menger(b[:n], b[n:2 * n], b[2 * n:])
+        cap = (source == 0) & (u <= tubes.lo[k]) & (e[:, 0] * tangent[:, 0] + e[:, 1] * tangent[:, 1] < 0.0)
+        curvature = np.where(cap, -1.0 / radius, curvature)
         return Clearance(distance=radius - r, normal=e, boundary=boundary, curvature=curvature)
 
     def path(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -665,9 +680,9 @@ def _check_bend(curve: _Curve, points: FloatArray, name: str) -> None:
     if bend[worst] >= BEND_LIMIT:
         i = int(np.argmin(np.hypot(*(points - curve.samples[worst]).T)))
         raise ValueError(
-            f"{name}.centreline bends tighter than the lumen radius near point {i} {_fmt_point(points[i])}: bend radius "
-            f"{1.0 / abs(curve.kappa[worst]):.3g} mm < radius {curve.radius[worst]:.3g} mm, so the tube overlaps "
-            "itself; smooth the bend (more, farther-spread points) or reduce the radius there."
+            f"{name}.centreline bends tighter than the lumen radius near point {i} {_fmt_point(points[i])}: bend "
+            f"radius {1.0 / abs(curve.kappa[worst]):.3g} mm < radius {curve.radius[worst]:.3g} mm, so the tube "
+            "overlaps itself; smooth the bend (more, farther-spread points) or reduce the radius there."
         )
     tree = cKDTree(curve.samples)
     pairs = tree.query_pairs(2.0 * float(curve.radius.max()), output_type="ndarray")
@@ -682,8 +697,8 @@ def _check_bend(curve: _Curve, points: FloatArray, name: str) -> None:
             pb = int(np.argmin(np.hypot(*(points - curve.samples[b]).T)))
             raise ValueError(
                 f"{name}.centreline comes back within the lumen radius of itself: near point {pa} "
-                f"{_fmt_point(points[pa])} and point {pb} {_fmt_point(points[pb])} the tube overlaps itself; move those "
-                "stretches apart or reduce the radius."
+                f"{_fmt_point(points[pa])} and point {pb} {_fmt_point(points[pb])} the tube overlaps itself; move "
+                "those stretches apart or reduce the radius."
             )
 
 
@@ -696,8 +711,8 @@ class _WallGeometry:
             hit = _self_crossing(a)
             if hit is not None:
                 raise ValueError(
-                    f"vessel.walls[{i}] crosses itself: its segments {hit[0]} and {hit[1]} (points {hit[0]}–{hit[0] + 1}"
-                    f" and {hit[1]}–{hit[1] + 1}) intersect; give a simple polyline."
+                    f"vessel.walls[{i}] crosses itself: its segments {hit[0]} and {hit[1]} (points "
+                    f"{hit[0]}–{hit[0] + 1} and {hit[1]}–{hit[1] + 1}) intersect; give a simple polyline."
                 )
         a, b = arrays
         cross = _segments_cross(a[:-1, None], a[1:, None], b[None, :-1], b[None, 1:])
@@ -730,8 +745,8 @@ class _WallGeometry:
         tubes = self.tubes
         m = len(p)
         best = tubes.closest(p)
-        u, k, source, v, r = best["u"], best["k"], best["source"], best["v"], best["r"]
-        _, left, kappa = tubes.tangent_normal(u, k, source)
+        k, v, r, kappa = best["k"], best["v"], best["r"], best["kappa"]
+        left = np.column_stack((-best["t"][:, 1], best["t"][:, 0]))
         side = self.side[k]
         inward = side[:, None] * left  # unit normal pointing into the lumen
         sign = np.where(np.einsum("ij,ij->i", v, inward) >= 0.0, 1.0, -1.0)

@@ -312,13 +312,15 @@ class _Tubes:
             value, d1, d2 = self.evaluate(u, k)
             if step_number == NEWTON_STEPS:
                 break
+            # stationarity of |p − c| − R, times r so that it is smooth on the axis and quadratic for R' = 0:
+            # G = v·c' + r R' = 0, G' = v·c'' − |c'|² − (e·c') R' + r R''  (v = p − c, e = v / r)
             v = q - value[:, :2]
-            r = np.maximum(np.hypot(v[:, 0], v[:, 1]), 1e-300)
-            ec1 = (v[:, 0] * d1[:, 0] + v[:, 1] * d1[:, 1]) / r
-            grad = -ec1 - d1[:, 2]  # d/du of |p − c| − R
-            hess = ((d1[:, 0] ** 2 + d1[:, 1] ** 2 - ec1**2) / r - (v[:, 0] * d2[:, 0] + v[:, 1] * d2[:, 1]) / r
-                    - d2[:, 2])
-            step = np.where(hess > 0.0, -grad / np.where(hess > 0.0, hess, 1.0), -np.sign(grad) * h)
+            r = np.hypot(v[:, 0], v[:, 1])
+            vc1 = v[:, 0] * d1[:, 0] + v[:, 1] * d1[:, 1]
+            g = vc1 + r * d1[:, 2]
+            slope = (v[:, 0] * d2[:, 0] + v[:, 1] * d2[:, 1] - d1[:, 0] ** 2 - d1[:, 1] ** 2
+                     - vc1 / np.maximum(r, 1e-300) * d1[:, 2] + r * d2[:, 2])
+            step = np.where(slope < 0.0, -g / np.where(slope < 0.0, slope, -1.0), np.sign(g) * h)
             u = np.minimum(np.maximum(u + np.minimum(np.maximum(step, -h), h), lo), hi)
         centre, radius = value[:, :2], value[:, 2]
         speed = np.hypot(d1[:, 0], d1[:, 1])

@@ -9,7 +9,8 @@ Units mm and rad throughout. Two ways to give a lumen:
   ``c(u)``; its signed distance is ``max_u R(u) − |p − c(u)|`` (exact for a constant radius), whose gradient is
   exactly ``−(p − c(u*))/|p − c(u*)|``, so the distance is C¹ in the point away from the medial axis. The entrance is
   closed by the first disk (a rounded cap); the far end is open: the tube continues straight along its last tangent
-  with its last radius, so a tip pushed past the end is not blocked. The lumen of a tree is the union of its tubes
+  with its last radius for :data:`TAIL_REACH` (50 mm, or 4 end radii if longer) before a rounded cap, so a tip pushed
+  past the end is not blocked. The lumen of a tree is the union of its tubes
   (the largest signed distance).
 - :meth:`Vessel.from_walls`: the lumen between two wall polylines, each interpolated the same way and continued
   straight beyond both of its ends; the signed distance is the distance to the nearer wall, positive on the lumen
@@ -48,6 +49,14 @@ bent tubes (a quarter of the least radius, a quarter of the least bend radius)."
 NEWTON_STEPS = 3
 """Newton steps on the spline parameter after the nearest sample (quadratic convergence from within one spacing:
 ~1e-3, 1e-6, 1e-12 of a spacing)."""
+
+TAIL_REACH = 50.0
+"""A tube continues straight past its far end for this many mm (or :data:`TAIL_REACH_RADII` end radii if longer),
+then closes with a rounded cap: far enough for a tip to leave the vessel unhindered, short enough not to reach back
+into another part of the tree."""
+
+TAIL_REACH_RADII = 4.0
+"""The tube's straight continuation reaches at least this many end radii (see :data:`TAIL_REACH`)."""
 
 BEND_LIMIT = 1.0
 """A tube whose centreline curvature times radius reaches this anywhere overlaps itself there (refused)."""
@@ -253,8 +262,10 @@ class _Tubes:
     steps) and compares it with the straight continuations of the curve past its open ends.
     """
 
-    def __init__(self, curves: Sequence[_Curve], *, head_open: Sequence[bool], tail_open: Sequence[bool]) -> None:
+    def __init__(self, curves: Sequence[_Curve], *, head_open: Sequence[bool], tail_open: Sequence[bool],
+                 reach: float | Sequence[float] = math.inf) -> None:
         self.curves = tuple(curves)
+        self.reach = np.broadcast_to(np.asarray(reach, dtype=float), (len(curves),)).copy()
         self.trees = tuple(cKDTree(c.samples) for c in curves)
         self.head_open = np.asarray(head_open, dtype=bool)
         self.tail_open = np.asarray(tail_open, dtype=bool)
@@ -298,8 +309,8 @@ class _Tubes:
     def closest(self, p: FloatArray) -> dict[str, FloatArray]:
         """For every curve k and point i (flattened k-major, length T·m): the best parameter ``u``, the centre ``c``,
         the radius ``R``, the offset ``v = p − c`` and its length ``r``, where it came from (``source``: 0 the
-        spline, 1 past the head, 2 past the tail), and the curve's unit tangent ``t`` and signed curvature ``kappa``
-        there (0 on the straight continuations)."""
+        spline, 1 past the head, 2 past the tail, 3 on the cap closing a continuation), and the curve's unit tangent
+        ``t`` and signed curvature ``kappa`` there (0 on the straight continuations)."""
         m, t = len(p), len(self.curves)
         if t == 1:
             u, k, q = self.curves[0].u[self.trees[0].query(p)[1]], np.zeros(m, dtype=np.intp), p
@@ -338,6 +349,8 @@ class _Tubes:
             past = is_open[k] & (sign * lam > 0.0)
             if not past.any():
                 continue
+            capped = np.abs(lam) > self.reach[k]  # a continuation of finite reach ends in a rounded cap
+            lam = np.clip(lam, -self.reach[k], self.reach[k])
             foot = point[k] + lam[:, None] * direction[k]
             gain = (rad[k] - np.hypot(*(q - foot).T)) - (radius - np.hypot(*(q - centre).T))
             better = past & (gain > 0.0)
@@ -345,7 +358,7 @@ class _Tubes:
             radius = np.where(better, rad[k], radius)
             tangent = np.where(better[:, None], direction[k], tangent)
             kappa = np.where(better, 0.0, kappa)
-            source = np.where(better, end, source)
+            source = np.where(better, np.where(capped, 3, end), source)
         v = q - centre
         return {"u": u, "k": k, "centre": centre, "radius": radius, "v": v, "r": np.hypot(v[:, 0], v[:, 1]),
                 "source": source, "t": tangent, "kappa": kappa}
@@ -608,7 +621,8 @@ class _TubeGeometry:
         self.main = curves[0]
         self.centre_curves = curves
         # the entrance is capped (the first disk); branch junctions too (they lie inside the parent); far ends open
-        self.tubes = _Tubes(curves, head_open=[False] * len(curves), tail_open=[True] * len(curves))
+        reach = [max(TAIL_REACH, TAIL_REACH_RADII * float(c.radius[-1])) for c in curves]
+        self.tubes = _Tubes(curves, head_open=[False] * len(curves), tail_open=[True] * len(curves), reach=reach)
         self.varying = np.array([np.ptp(rad) > 0.0 for _, rad, _ in lines])
         if len(curves) > 1:
             main_only = _Tubes(curves[:1], head_open=[False], tail_open=[True])
@@ -650,6 +664,7 @@ class _TubeGeometry:
             b = tubes.envelope(np.concatenate((mid - h, mid, mid + h)), np.tile(kv, 3), np.tile(side[i], 3))
             curvature[i] = side[i] * _menger(b[:n], b[n:2 * n], b[2 * n:])
         cap = (source == 0) & (u <= tubes.lo[k]) & (e[:, 0] * tangent[:, 0] + e[:, 1] * tangent[:, 1] < 0.0)
+        cap |= source == 3
         curvature = np.where(cap, -1.0 / radius, curvature)
         return Clearance(distance=radius - r, normal=e, boundary=boundary, curvature=curvature)
 

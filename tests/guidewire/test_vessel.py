@@ -57,7 +57,7 @@ def test_two_wall_channel_distances_are_exact_everywhere():
 
 def test_straight_tube_is_open_at_the_far_end_and_capped_at_the_entrance():
     tube = Vessel.from_centreline([[0.0, 0.0], [50.0, 0.0]], 2.0)
-    p = np.array([[10.0, 1.5], [49.0, -0.5], [80.0, 1.0], [300.0, -2.5], [-1.0, 0.0], [-1.0, 1.0]])
+    p = np.array([[10.0, 1.5], [49.0, -0.5], [80.0, 1.0], [90.0, -2.5], [-1.0, 0.0], [-1.0, 1.0]])
     c = tube.clearance(p)
     expected = [0.5, 1.5, 1.0, -0.5, 1.0, 2.0 - math.sqrt(2.0)]
     np.testing.assert_allclose(c.distance, expected, atol=1e-12)
@@ -285,3 +285,13 @@ def test_vessels_are_values():
     again = pickle.loads(pickle.dumps(vessel))
     np.testing.assert_array_equal(again.clearance([[10.0, 1.0]]).distance, vessel.clearance([[10.0, 1.0]]).distance)
     assert isinstance(vessel.branches[0], Branch)
+
+
+def test_a_tube_continues_straight_past_its_far_end_then_closes():
+    tube = Vessel.from_centreline([[0.0, 0.0], [50.0, 0.0]], 2.0)
+    c = tube.clearance([[95.0, 1.5], [101.0, 0.5], [103.0, 0.0]])  # reach 50 mm past the end, then a cap
+    np.testing.assert_allclose(c.distance, [0.5, 2.0 - math.hypot(1.0, 0.5), -1.0], atol=1e-12)
+    np.testing.assert_allclose(c.curvature, [0.0, -0.5, -0.5], atol=1e-12)
+    # the arch's root does not reach back to its entrance: outside the descending aorta is outside
+    arch = load_scene(VESSELS / "aortic_arch.toml").vessel
+    assert arch.clearance([[-12.0, 5.0]]).distance[0] < 0.0 < arch.clearance([[-8.0, 5.0]]).distance[0]

@@ -10,7 +10,8 @@ Modules: :mod:`~guidewire.scene` (values), :mod:`~guidewire.scene_file` (TOML), 
 :mod:`~guidewire.formulation` (the NLP in either layout; :mod:`~guidewire.full_space` the full-space one),
 :mod:`~guidewire.initial_shape` (the start), :mod:`~guidewire.solve`, :mod:`~guidewire.sequence` and
 :mod:`~guidewire.result`, :mod:`~guidewire.reference` (the exact continuum elastica), :mod:`~guidewire.paper` (the
-paper's scenes), :mod:`~guidewire.plot` (figures, needs matplotlib), :mod:`~guidewire.cli` (``python -m guidewire``).
+paper's scenes), :mod:`~guidewire.vessel` (vessel lumens), :mod:`~guidewire.plot` (figures, needs matplotlib),
+:mod:`~guidewire.cli` (``python -m guidewire``).
 """
 
 from .formulation import Formulation, formulate
@@ -21,9 +22,12 @@ from .scene import Base, Contact, Scene, Wall, Wire
 from .scene_file import load_scene, scene_to_toml
 from .sequence import SequenceResult, solve_sequence
 from .solve import solve
+from .vessel import Branch, Clearance, Vessel
 
 __all__ = [
     "Base",
+    "Branch",
+    "Clearance",
     "Contact",
     "Formulation",
     "Insertion",
@@ -31,6 +35,7 @@ __all__ = [
     "Scene",
     "SequenceResult",
     "Solution",
+    "Vessel",
     "Wall",
     "Wire",
     "formulate",

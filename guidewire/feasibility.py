@@ -13,6 +13,14 @@ Continuum checks (any discretisation):
   the straight chord, so every prescribed angle at its ends or between them must be the chord's direction, up to the
   turn ``acos(1 − slack/l)`` the remaining slack allows one bar of length ``l``.
 
+Vessel checks (when ``scene.vessel`` is set; :mod:`guidewire.vessel`):
+
+- **vessel fit**: every lumen radius (each centreline point's, each branch's; half the walls' distance along their
+  midline) larger than the wire's radius ``d/2``;
+- **vessel positions**: the base and every contact point inside the lumen by at least ``d/2``;
+- **vessel direction**: a clamped base at the entrance pointing into the vessel (within 90° of the centreline's
+  tangent there).
+
 Discrete checks (the scene's own ``bars`` and ``scheme``; :func:`guidewire.chain.place_bars` puts a node at every
 contact). A prescribed tangent is an *anchor* at a position along the chain counted in joints: the base angle at 0
 (the joint ``φ₁ − θ_A`` is bounded by b₂ in both schemes), a contact angle at node ``k`` at ``k`` in the paper scheme
@@ -38,6 +46,7 @@ from numpy.typing import NDArray
 
 from .chain import place_bars
 from .fields import fmt as _fmt
+from .fields import fmt_point as _fmt_point
 
 if TYPE_CHECKING:
     from .scene import Scene
@@ -99,6 +108,72 @@ def walls(scene: Scene) -> str | None:
                     f"({_fmt(wall.normal[0])}·x + {_fmt(wall.normal[1])}·y ≤ {_fmt(wall.offset)}); move the point "
                     "inside or the wall out"
                 )
+    return None
+
+
+def vessel_fit(scene: Scene) -> str | None:
+    """A lumen radius not larger than the wire's radius ``d/2``: the wire does not fit."""
+    vessel = scene.vessel
+    if vessel is None:
+        return None
+    half = 0.5 * scene.wire.diameter
+    fix = f"widen the lumen or use a thinner wire (wire.diameter = {_fmt(scene.wire.diameter)} mm)"
+    if vessel.walls:
+        s = np.linspace(0.0, vessel.length, 401)
+        width = vessel.radius_at(s)
+        i = int(np.argmin(width))
+        if width[i] <= half:
+            p, _ = vessel.path(s[i : i + 1])
+            return (f"the vessel's walls are {2.0 * width[i]:.4g} mm apart near {_fmt_point(p[0])}, not wider than the "
+                    f"wire (d = {_fmt(scene.wire.diameter)} mm); {fix}")
+        return None
+    tubes = [("vessel.radius", vessel.centreline, vessel.radius)]
+    tubes += [(f"vessel.branch[{i}].radius", b.centreline, b.radius) for i, b in enumerate(vessel.branches)]
+    for name, line, radius in tubes:
+        radii = np.broadcast_to(np.asarray(radius, dtype=float), (len(line),))
+        i = int(np.argmin(radii))
+        if radii[i] <= half:
+            where = f"[{i}] at {_fmt_point(line[i])}" if isinstance(radius, tuple) else ""
+            return (f"{name}{where} is {_fmt(float(radii[i]))} mm, not larger than the wire's radius d/2 = "
+                    f"{_fmt(half)} mm: the wire does not fit; {fix}")
+    return None
+
+
+def vessel_positions(scene: Scene) -> str | None:
+    """The base or a contact point outside the lumen (closer than ``d/2`` to its wall, or beyond it)."""
+    vessel = scene.vessel
+    if vessel is None:
+        return None
+    half = 0.5 * scene.wire.diameter
+    positions = _positions(scene)
+    clearance = vessel.clearance(np.array([p for _, _, p, _ in positions]))
+    for (name, s, p, _), d in zip(positions, clearance.distance, strict=True):
+        if d < half - 1e-9 * max(1.0, abs(half)):
+            where = "outside the lumen" if d < 0.0 else "too close to the lumen's wall"
+            return (f"{_point_label(name, p, s)} is {where}: its clearance is {d:.4g} mm but the wire needs d/2 = "
+                    f"{_fmt(half)} mm; move it into the vessel (omit [base] to start at the entrance "
+                    f"{_fmt_point(vessel.entrance_point)})")
+    return None
+
+
+ENTRANCE_TOLERANCE = 1e-6
+"""A base within this many mm (× max(1, lumen radius)) of the vessel's entrance is at the entrance."""
+
+
+def vessel_direction(scene: Scene) -> str | None:
+    """A clamped base at the vessel's entrance whose angle points out of the vessel (90° or more from the
+    centreline's tangent there)."""
+    vessel, angle = scene.vessel, scene.base.angle
+    if vessel is None or angle is None:
+        return None
+    scale = max(1.0, float(vessel.radius_at(0.0)[0]))
+    if math.dist(scene.base.point, vessel.entrance_point) > ENTRANCE_TOLERANCE * scale:
+        return None
+    into = vessel.entrance_angle
+    if math.cos(angle - into) <= 0.0:
+        return (f"base.angle {_fmt(angle)} rad points out of the vessel at its entrance "
+                f"{_fmt_point(vessel.entrance_point)}, where the vessel goes in along {into:.6g} rad; give an angle "
+                "within 90° of that, or omit [base] to start along the centreline")
     return None
 
 
@@ -239,7 +314,9 @@ def discrete_reach(scene: Scene) -> str | None:
     return None
 
 
-CHECKS = (continuum_reach, walls, taut_angles, turning, discrete_reach)
+CHECKS = (
+    continuum_reach, walls, vessel_fit, vessel_positions, vessel_direction, taut_angles, turning, discrete_reach,
+)
 """The checks :func:`infeasibility` runs, in this order (the first reason found is reported)."""
 
 
@@ -248,8 +325,9 @@ def infeasibility(scene: Scene) -> str | None:
     forbids it.
 
     Necessary conditions only (see the module docstring): prescribed positions within reach of the wire between
-    them, the base and contact points inside every wall, a taut stretch of wire straight along its chord, prescribed
-    angles within the turning ``b₂`` allows, and positions within reach of the scene's bars.
+    them, the base and contact points inside every wall, a vessel wide enough for the wire with the base and contact
+    points inside its lumen and a clamp at its entrance pointing in, a taut stretch of wire straight along its chord,
+    prescribed angles within the turning ``b₂`` allows, and positions within reach of the scene's bars.
     """
     for check in CHECKS:
         reason = check(scene)

@@ -1,5 +1,6 @@
 """Figures in the style of the paper's Figs. 4, 5, 6 and 13: equal aspect, the wire coloured by bending stress with a
-colour bar, contacts with their tangent arrows, walls, and the continuum reference when given.
+colour bar, contacts with their tangent arrows, walls, the vessel (walls and dashed centrelines) when the scene has
+one, and the continuum reference when given.
 
 Needs matplotlib (the ``[plot]`` extra); it is imported only when a function here is called. The functions build
 ``matplotlib.figure.Figure`` objects directly (no pyplot), so they change no global state and need no display.
@@ -71,6 +72,19 @@ def draw_walls(ax: Axes, scene: Scene, box: np.ndarray) -> None:
         ax.fill(band[:, 0], band[:, 1], facecolor="none", edgecolor="0.5", hatch="///", lw=0.0, zorder=1)
 
 
+def draw_vessel(ax: Axes, vessel: Any, *, color: str = "0.35") -> None:
+    """Draw a :class:`~guidewire.vessel.Vessel`: both walls of each tube (or the two walls) as lines, the parts of a
+    wall inside another tube of the tree left out, and the centrelines dashed (mm)."""
+    lines = vessel.wall_lines()
+    scale = max(1.0, float(np.ptp(np.vstack(lines), axis=0).max()))
+    for line in lines:
+        inside = vessel.clearance(line).distance > 1e-6 * scale  # a branch's wall across its parent's lumen
+        shown = np.where(inside[:, None], np.nan, line)
+        ax.plot(shown[:, 0], shown[:, 1], color=color, lw=1.5, zorder=1)
+    for centre in vessel.centrelines():
+        ax.plot(centre[:, 0], centre[:, 1], ls="--", color=color, lw=0.7, zorder=1)
+
+
 def draw_solution(
     ax: Axes, solution: Solution, *, norm: Any = None, reference: Any = None, linewidth: float = 3.0
 ) -> Any:
@@ -112,13 +126,17 @@ def plot_panel(
     title: str = "",
     message: str = "",
 ) -> Any:
-    """One panel: the scenes' walls, every solution coloured by stress, their contacts; returns the last
+    """One panel: the scenes' walls and vessel, every solution coloured by stress, their contacts; returns the last
     ``LineCollection`` (for a colour bar) or None. ``message`` is written in the panel (e.g. an infeasibility)."""
     points = [np.asarray([scene.base.point])]
     points += [np.asarray([c.point]) for c in scene.contacts if c.point is not None]
     points += [sol.nodes for sol in solutions]
+    if scene.vessel is not None:
+        points += scene.vessel.wall_lines()
     box = _box(np.vstack(points))
     draw_walls(ax, scene, box)
+    if scene.vessel is not None:
+        draw_vessel(ax, scene.vessel)
     last = None
     for i, sol in enumerate(solutions):
         ref = references[i] if references is not None else None

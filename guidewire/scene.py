@@ -19,6 +19,7 @@ from .fields import fmt as _fmt
 from .fields import point as _point
 from .fields import real as _real
 from .fields import warn_angle, warn_modulus
+from .vessel import Vessel
 
 SCHEMES = ("second_order", "paper")
 """Discretisations of the bending energy; see :mod:`guidewire.formulation`."""
@@ -208,6 +209,11 @@ class Scene:
         Strictly increasing arc lengths in ``(0, L]``; wire beyond the last contact is a free end.
     walls : sequence of Wall
     name : str
+    notes : str
+        Free text (not compared).
+    vessel : Vessel or None
+        A lumen every node must stay inside (see :mod:`guidewire.vessel`); :meth:`in_vessel` puts the base at its
+        entrance.
     """
 
     wire: Wire
@@ -216,6 +222,7 @@ class Scene:
     walls: tuple[Wall, ...] = ()
     name: str = ""
     notes: str = field(default="", compare=False)
+    vessel: Vessel | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.wire, Wire):
@@ -248,6 +255,8 @@ class Scene:
         for i, wall in enumerate(walls):
             if not isinstance(wall, Wall):
                 raise TypeError(f"scene.walls[{i}] is {type(wall).__name__}; expected guidewire.Wall.")
+        if self.vessel is not None and not isinstance(self.vessel, Vessel):
+            raise TypeError(f"scene.vessel is {type(self.vessel).__name__}; expected guidewire.Vessel or None.")
         object.__setattr__(self, "contacts", tuple(contacts))
         if self.wire.bars < len(self.segment_ends()):
             raise ValueError(
@@ -255,6 +264,27 @@ class Scene:
                 "segments; use at least one bar per segment."
             )
         object.__setattr__(self, "walls", walls)
+
+    @classmethod
+    def in_vessel(
+        cls,
+        wire: Wire,
+        vessel: Vessel,
+        *,
+        base: Base | None = None,
+        contacts: Sequence[Contact] = (),
+        walls: Sequence[Wall] = (),
+        name: str = "",
+        notes: str = "",
+    ) -> Scene:
+        """A wire inserted into ``vessel``: the base is the vessel's entrance (its point and the centreline's
+        tangent there, pointing in; named ``"entrance"``) unless ``base`` is given; ``wire.length`` is the inserted
+        length (mm)."""
+        if not isinstance(vessel, Vessel):
+            raise TypeError(f"scene.vessel is {type(vessel).__name__}; expected guidewire.Vessel.")
+        if base is None:
+            base = Base(vessel.entrance_point, vessel.entrance_angle, name="entrance")
+        return cls(wire, base, tuple(contacts), tuple(walls), name=name, notes=notes, vessel=vessel)
 
     # ----------------------------------------------------------------------------------------------------------
     def segment_ends(self) -> tuple[float, ...]:
@@ -278,7 +308,8 @@ class Scene:
         return replace(self, wire=replace(self.wire, **changes))
 
     def mirrored(self) -> Scene:
-        """The scene reflected in the x-axis: ``y → −y``, angles ``θ → −θ``, wall normals ``(a, b) → (a, −b)``."""
+        """The scene reflected in the x-axis: ``y → −y``, angles ``θ → −θ``, wall normals ``(a, b) → (a, −b)``, the
+        vessel's points reflected."""
 
         def flip(p: tuple[float, float] | None) -> tuple[float, float] | None:
             return None if p is None else (p[0], -p[1])
@@ -290,11 +321,12 @@ class Scene:
         contacts = tuple(replace(c, point=flip(c.point), angle=negate(c.angle)) for c in self.contacts)
         walls = tuple(Wall((w.normal[0], -w.normal[1]), w.offset) for w in self.walls)
         name = f"{self.name} (mirrored)" if self.name else ""
-        return replace(self, base=base, contacts=contacts, walls=walls, name=name)
+        vessel = None if self.vessel is None else self.vessel.mirrored()
+        return replace(self, base=base, contacts=contacts, walls=walls, name=name, vessel=vessel)
 
     def rotated(self, angle: float, center: tuple[float, float] = (0.0, 0.0)) -> Scene:
         """The scene turned counter-clockwise by ``angle`` (rad) about ``center``: points rotate, tangent angles
-        gain ``angle``, wall normals rotate and wall offsets follow the moved boundary."""
+        gain ``angle``, wall normals rotate and wall offsets follow the moved boundary, the vessel turns with them."""
         angle = _real(angle, "angle")
         cx, cy = _point(center, "center")
         c, s = math.cos(angle), math.sin(angle)
@@ -316,4 +348,5 @@ class Scene:
             shift = a[0] * cx + a[1] * cy - (w.normal[0] * cx + w.normal[1] * cy)
             walls.append(Wall(a, w.offset + shift))
         name = f"{self.name} (rotated)" if self.name else ""
-        return replace(self, base=base, contacts=contacts, walls=tuple(walls), name=name)
+        vessel = None if self.vessel is None else self.vessel.rotated(angle, (cx, cy))
+        return replace(self, base=base, contacts=contacts, walls=tuple(walls), name=name, vessel=vessel)

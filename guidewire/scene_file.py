@@ -26,6 +26,18 @@ The format::
     [[wall]]                     # zero or more: normal · p ≤ offset at every node
     normal = [1.0, 0.0]
     offset = 45.0
+
+    [vessel]                     # optional: a lumen every node stays inside (see guidewire.vessel)
+    centreline = [[0.0, 0.0], [50.0, 0.0], [90.0, 30.0]]   # mm, entrance first
+    radius = 2.0                 # mm: one number, or one per centreline point
+    # walls = [[[0.0, 2.0], [100.0, 2.0]], [[0.0, -2.0], [100.0, -2.0]]]  # instead of centreline and radius
+
+    [[vessel.branch]]            # zero or more side branches, each starting inside the main lumen
+    centreline = [[50.0, 0.0], [50.0, 30.0]]
+    radius = 1.5
+
+With a ``[vessel]`` and no ``[base]``, the base is the vessel's entrance (its first centreline point, the tangent
+there pointing in; see :meth:`guidewire.Scene.in_vessel`).
 """
 
 from __future__ import annotations
@@ -37,12 +49,15 @@ from pathlib import Path
 from typing import Any
 
 from .scene import Base, Contact, Scene, Wall, Wire
+from .vessel import Branch, Vessel
 
-_TOP_KEYS = {"name", "notes", "wire", "base", "contact", "wall"}
+_TOP_KEYS = {"name", "notes", "wire", "base", "contact", "wall", "vessel"}
 _WIRE_KEYS = {"length", "bars", "youngs_modulus", "diameter", "moment_of_inertia", "max_relative_angle", "scheme"}
 _BASE_KEYS = {"point", "angle", "name"}
 _CONTACT_KEYS = {"s", "point", "angle", "name"}
 _WALL_KEYS = {"normal", "offset"}
+_VESSEL_KEYS = {"centreline", "radius", "branch", "walls"}
+_BRANCH_KEYS = {"centreline", "radius"}
 
 
 _EXAMPLES = {
@@ -54,6 +69,8 @@ _EXAMPLES = {
     "s": "s = 100.0 (mm, arc length from the base)",
     "normal": "normal = [1.0, 0.0]",
     "offset": "offset = 45.0 (mm)",
+    "centreline": "centreline = [[0.0, 0.0], [50.0, 0.0]] (mm, entrance first)",
+    "radius": "radius = 2.0 (mm, or one per centreline point)",
 }
 
 
@@ -84,9 +101,14 @@ def _table(data: Any, where: str, allowed: set[str], required: tuple[str, ...]) 
 
 def scene_from_dict(data: Mapping[str, Any], *, name: str = "") -> Scene:
     """Build a :class:`Scene` from the parsed TOML mapping (see the module docstring for the keys)."""
-    top = _table(data, "scene file", _TOP_KEYS, ("wire", "base"))
+    top = _table(data, "scene file", _TOP_KEYS, ("wire",) if "vessel" in data else ("wire", "base"))
     wire = Wire(**_table(top["wire"], "wire", _WIRE_KEYS, ("length", "bars")))
-    base = Base(**_table(top["base"], "base", _BASE_KEYS, ("point",)))
+    vessel = _vessel(top["vessel"]) if "vessel" in top else None
+    if "base" in top:
+        base = Base(**_table(top["base"], "base", _BASE_KEYS, ("point",)))
+    else:
+        assert vessel is not None  # _table required [base] otherwise
+        base = Scene.in_vessel(wire, vessel).base
     contact_list = top.get("contact", [])
     wall_list = top.get("wall", [])
     if not isinstance(contact_list, list):
@@ -97,8 +119,34 @@ def scene_from_dict(data: Mapping[str, Any], *, name: str = "") -> Scene:
     walls = tuple(_item(Wall, w, f"wall {i + 1}", _WALL_KEYS, ("normal", "offset")) for i, w in enumerate(wall_list))
     return Scene(
         wire=wire, base=base, contacts=contacts, walls=walls, name=str(top.get("name", name)),
-        notes=str(top.get("notes", "")),
+        notes=str(top.get("notes", "")), vessel=vessel,
     )
+
+
+def _vessel(data: Any) -> Vessel:
+    """The ``[vessel]`` table: ``centreline`` with ``radius`` (and ``[[vessel.branch]]``), or ``walls``."""
+    table = _table(data, "vessel", _VESSEL_KEYS, ())
+    if "walls" in table:
+        extra = sorted(set(table) - {"walls"})
+        if extra:
+            raise ValueError(f"[vessel] has both walls and {extra[0]!r}; give either walls = [[[x, y], ...], "
+                             "[[x, y], ...]] or centreline with radius (and [[vessel.branch]]), not both.")
+        walls = table["walls"]
+        if not isinstance(walls, list) or len(walls) != 2:
+            raise ValueError("[vessel] walls must be two polylines: walls = [[[x, y], ...], [[x, y], ...]] (mm).")
+        return Vessel.from_walls(walls[0], walls[1])
+    _table(table, "vessel", _VESSEL_KEYS, ("centreline", "radius"))
+    branch_list = table.get("branch", [])
+    if not isinstance(branch_list, list):
+        raise ValueError("vessel.branch must be an array of tables: write [[vessel.branch]] (double brackets).")
+    branches = []
+    for i, item in enumerate(branch_list):
+        entry = _table(item, f"vessel.branch {i + 1}", _BRANCH_KEYS, ("centreline", "radius"))
+        try:
+            branches.append(Branch(entry["centreline"], entry["radius"]))
+        except (TypeError, ValueError) as exc:
+            raise type(exc)(f"[[vessel.branch]] number {i + 1}: {exc}") from None
+    return Vessel.from_centreline(table["centreline"], table["radius"], branches)
 
 
 def _item(cls: Any, data: Any, where: str, allowed: set[str], required: tuple[str, ...]) -> Any:
@@ -193,6 +241,27 @@ def scene_to_dict(scene: Scene) -> dict[str, Any]:
         out["contact"] = contacts
     if scene.walls:
         out["wall"] = [{"normal": list(wall.normal), "offset": wall.offset} for wall in scene.walls]
+    if scene.vessel is not None:
+        out["vessel"] = vessel_to_dict(scene.vessel)
+        if scene.base == Scene.in_vessel(scene.wire, scene.vessel).base:
+            del out["base"]  # the entrance: what a file without [base] means
+    return out
+
+
+def vessel_to_dict(vessel: Vessel) -> dict[str, Any]:
+    """The ``[vessel]`` table of a scene file (mm), JSON-ready."""
+
+    def lists(line: tuple[tuple[float, ...], ...]) -> list[list[float]]:
+        return [list(p) for p in line]
+
+    def radius(value: float | tuple[float, ...]) -> float | list[float]:
+        return list(value) if isinstance(value, tuple) else value
+
+    if vessel.walls:
+        return {"walls": [lists(w) for w in vessel.walls]}
+    out: dict[str, Any] = {"centreline": lists(vessel.centreline), "radius": radius(vessel.radius)}
+    if vessel.branches:
+        out["branch"] = [{"centreline": lists(b.centreline), "radius": radius(b.radius)} for b in vessel.branches]
     return out
 
 
@@ -201,8 +270,14 @@ def scene_to_toml(scene: Scene) -> str:
     data = scene_to_dict(scene)
     lines = [f"{key} = {_toml_value(data[key])}" for key in ("name", "notes") if key in data]
     for table in ("wire", "base"):
-        lines += ["", f"[{table}]", *(f"{k} = {_toml_value(v)}" for k, v in data[table].items())]
+        if table in data:
+            lines += ["", f"[{table}]", *(f"{k} = {_toml_value(v)}" for k, v in data[table].items())]
     for table in ("contact", "wall"):
         for item in data.get(table, []):
             lines += ["", f"[[{table}]]", *(f"{k} = {_toml_value(v)}" for k, v in item.items())]
+    if "vessel" in data:
+        vessel = data["vessel"]
+        lines += ["", "[vessel]", *(f"{k} = {_toml_value(v)}" for k, v in vessel.items() if k != "branch")]
+        for item in vessel.get("branch", []):
+            lines += ["", "[[vessel.branch]]", *(f"{k} = {_toml_value(v)}" for k, v in item.items())]
     return "\n".join(lines) + "\n"

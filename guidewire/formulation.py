@@ -66,6 +66,20 @@ def _diagonal(values: FloatArray) -> sp.csc_matrix:
     return sp.csc_matrix((values, index[:-1], index), shape=(n, n))
 
 
+def _curvature_term(chain: Any, phi: FloatArray, nodes: IntArray, weighted: FloatArray) -> FloatArray:
+    """``Σ_r (∂p_{k_r}/∂φ)ᵀ W_r (∂p_{k_r}/∂φ)`` for 2 × 2 matrices ``W_r``, dense (n, n): with
+    ``e_j = l_j (−sin φ_j, cos φ_j)`` and ``S_j = Σ_{k_r ≥ j} W_r`` (a suffix sum), entry ``(i, j)`` is
+    ``e_iᵀ S_{max(i, j)} e_j`` — O(n²), for the quadratic rows of a curved boundary."""
+    n = chain.n_bars
+    acc = np.zeros((n + 1, 2, 2))
+    np.add.at(acc, nodes, weighted)
+    suffix = np.cumsum(acc[::-1], axis=0)[::-1][1:]  # row j (bar j+1): rows at nodes ≥ j+1
+    e = chain.lengths[:, None] * np.column_stack((-np.sin(phi), np.cos(phi)))
+    left = np.einsum("ia,jab->ijb", e, suffix)  # e_iᵀ S_j, (n, n, 2)
+    upper = np.einsum("ijb,jb->ij", left, e)  # e_iᵀ S_j e_j: right for j ≥ i
+    return np.triu(upper) + np.triu(upper, 1).T
+
+
 @dataclass(frozen=True)
 class ReducedLayout:
     """The paper's program: the bar angles are the variables; node rows are nonlinear and dense."""
@@ -98,18 +112,25 @@ class ReducedLayout:
 
     def node_rows(self, rows: NodeRows) -> Any:
         chain = self.model.chain
-        k, d = rows.nodes, rows.directions
+        k = rows.nodes
         mask = np.arange(chain.n_bars)[None, :] < k[:, None]  # bar j+1 ≤ node k
 
         def value(phi: FloatArray) -> FloatArray:
             return rows.values(chain.nodes(phi))
 
         def jac(phi: FloatArray) -> FloatArray:
+            d = rows.gradients(chain.nodes(phi)) if not rows.linear else rows.directions
             sin, cos = chain.lengths * np.sin(phi), chain.lengths * np.cos(phi)
             return mask * (d[:, 0:1] * -sin[None, :] + d[:, 1:2] * cos[None, :])
 
-        def hess(phi: FloatArray, v: FloatArray) -> sp.csc_matrix:
-            return _diagonal(chain.node_hessian_diagonal(phi, k, np.asarray(v, dtype=float)[:, None] * d))
+        def hess(phi: FloatArray, v: FloatArray) -> Any:
+            v = np.asarray(v, dtype=float)
+            if rows.linear:
+                return _diagonal(chain.node_hessian_diagonal(phi, k, v[:, None] * rows.directions))
+            d = rows.gradients(chain.nodes(phi))
+            out = _curvature_term(chain, phi, k, v[:, None, None] * rows.hessians)
+            out[np.diag_indices_from(out)] += chain.node_hessian_diagonal(phi, k, v[:, None] * d)
+            return out
 
         if np.array_equal(rows.lb, rows.ub):
             return {"type": "eq", "fun": lambda phi: value(phi) - rows.lb, "jac": jac, "hess": hess}

@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
-from scipy.optimize import LinearConstraint
+from scipy.optimize import LinearConstraint, NonlinearConstraint
 
 import sqp
 
@@ -209,13 +209,34 @@ class FullLayout:
     def own_constraints(self) -> list[Any]:
         return [self.closure.constraint()]
 
-    def node_rows(self, rows: NodeRows) -> LinearConstraint:
-        k, m = rows.nodes, rows.nodes.size
+    def node_rows(self, rows: NodeRows) -> Any:
+        """Linear rows as a ``LinearConstraint``; quadratic ones (a curved boundary) as a constraint with a sparse
+        Jacobian (two entries a row) and a 2 × 2 Hessian block per node."""
+        k, m, scale = rows.nodes, rows.nodes.size, self.scale
         cols = np.column_stack((_x(k), _y(k))).ravel()
-        A = sp.csr_matrix((self.scale * rows.directions.ravel(), (np.repeat(np.arange(m), 2), cols)),
-                          shape=(m, self.size))
-        A.eliminate_zeros()
-        return LinearConstraint(A, rows.lb, rows.ub)
+        row_index = np.repeat(np.arange(m), 2)
+        if rows.linear:
+            A = sp.csr_matrix((scale * rows.directions.ravel(), (row_index, cols)), shape=(m, self.size))
+            A.eliminate_zeros()
+            return LinearConstraint(A, rows.lb, rows.ub)
+        size = self.size
+        hess_rows, hess_cols = np.repeat(cols.reshape(m, 2), 2, axis=1).ravel(), np.tile(cols.reshape(m, 2), 2).ravel()
+
+        def value(z: FloatArray) -> FloatArray:
+            return rows.values(self.nodes(z))
+
+        def jac(z: FloatArray) -> sp.csr_matrix:
+            return sp.csr_matrix((scale * rows.gradients(self.nodes(z)).ravel(), (row_index, cols)), shape=(m, size))
+
+        def hess(z: FloatArray, v: FloatArray) -> sp.csc_matrix:
+            data = (scale**2 * np.asarray(v, dtype=float)[:, None, None] * rows.hessians).ravel()
+            return sp.csc_matrix((data, (hess_rows, hess_cols)), shape=(size, size))
+
+        if np.array_equal(rows.lb, rows.ub):
+            return {"type": "eq", "fun": lambda z: value(z) - rows.lb, "jac": jac, "hess": hess}
+        if np.all(np.isposinf(rows.ub)):
+            return {"type": "ineq", "fun": lambda z: value(z) - rows.lb, "jac": jac, "hess": hess}
+        return NonlinearConstraint(value, rows.lb, rows.ub, jac=jac, hess=hess)
 
     def angle_rows(self, rows: AngleRows) -> LinearConstraint:
         A = sp.coo_matrix(rows.A)
@@ -229,7 +250,7 @@ class FullLayout:
         specs = [b.rows(model) for b in blocks]
         phi = _onto_angle_rows(np.asarray(model.x0, dtype=float), [r for r in specs if isinstance(r, AngleRows)])
         p = model.chain.nodes(phi)
-        node_specs = [r for r in specs if isinstance(r, NodeRows)]
+        node_specs = [r for r in specs if isinstance(r, NodeRows) and r.linear]  # only linear rows must hold
         margin = WALL_START_MARGIN * model.scene.wire.length
         for _ in range(10):  # alternating projections (one round when the rows do not interact)
             moved = False
@@ -318,9 +339,9 @@ class FullLayout:
                 J_parts.append(A)
                 r_parts.append(A @ phi - bound)
             else:
-                d = rows.directions[active]
+                d = rows.gradients(points)[active]
                 J_parts.append(np.einsum("mi,min->mn", d, chain.node_jacobian(phi, rows.nodes[active])))
-                r_parts.append(np.einsum("mi,mi->m", d, points[rows.nodes[active]]) - bound)
+                r_parts.append(rows.values(points)[active] - bound)
         return np.vstack(J_parts), np.concatenate(r_parts)
 
 

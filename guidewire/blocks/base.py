@@ -37,7 +37,8 @@ IntArray = NDArray[np.int_]
 
 @dataclass(frozen=True)
 class NodeRows:
-    """Rows ``lb ≤ d_r · p_{k_r} ≤ ub``, linear in node positions.
+    """Rows ``lb ≤ d_r · p_{k_r} + ½ (p_{k_r} − c_r)ᵀ H_r (p_{k_r} − c_r) ≤ ub`` in node positions: linear
+    (``H`` None: walls, contact positions) or a quadratic model of a curved boundary around ``c_r`` (a lumen).
 
     Attributes
     ----------
@@ -47,16 +48,38 @@ class NodeRows:
         ``d_r`` (dimensionless; a unit vector or a coordinate axis).
     lb, ub : ndarray, shape (m,)
         Bounds in mm (``-inf``/``inf`` for none; ``lb == ub`` for an equality row).
+    hessians : ndarray, shape (m, 2, 2), or None
+        ``H_r`` (1/mm), symmetric; None for linear rows.
+    centres : ndarray, shape (m, 2), or None
+        ``c_r`` (mm), where the quadratic model is taken; None for linear rows.
     """
 
     nodes: IntArray
     directions: FloatArray
     lb: FloatArray
     ub: FloatArray
+    hessians: FloatArray | None = None
+    centres: FloatArray | None = None
+
+    @property
+    def linear(self) -> bool:
+        """Whether the rows are linear in the node positions."""
+        return self.hessians is None
 
     def values(self, points: FloatArray) -> FloatArray:
-        """``d_r · p_{k_r}`` for node positions ``points`` (shape (n + 1, 2)), shape (m,)."""
-        return np.einsum("ij,ij->i", points[self.nodes], self.directions)
+        """Row values at node positions ``points`` (shape (n + 1, 2)), shape (m,)."""
+        p = points[self.nodes]
+        out = np.einsum("ij,ij->i", p, self.directions)
+        if self.hessians is not None:
+            q = p - self.centres
+            out = out + 0.5 * np.einsum("ia,iab,ib->i", q, self.hessians, q)
+        return out
+
+    def gradients(self, points: FloatArray) -> FloatArray:
+        """``∂ row / ∂p_k`` at ``points``: ``d + H (p − c)``, shape (m, 2)."""
+        if self.hessians is None:
+            return self.directions
+        return self.directions + np.einsum("iab,ib->ia", self.hessians, points[self.nodes] - self.centres)
 
 
 @dataclass(frozen=True)

@@ -1,12 +1,14 @@
 """A vessel lumen: every node stays inside the vessel by the wire's radius (the contacts are found, not given).
 
-The lumen's wall is curved, so its exact row ``clearance(p_k) ≥ d/2`` is nonlinear in the node position. This block
-writes it, node by node, as the wall's tangent line at the nearest wall point ``b_k`` (outward unit normal ``n_k``):
-``n_k · p_k ≤ n_k · b_k − d/2 − sag_k`` — a :class:`~guidewire.blocks.base.NodeRows` row, linear in the node like a
-wall's (paper Eqs. 23–24, one half-plane per node instead of one per wall). :meth:`Lumen.refine` then moves each
-tangent line to the wall point nearest the answer and solves again: at a fixed point every line touches the wall at
-its node's nearest point, so the first-order optimality conditions are those of the curved lumen; the error of a line
-moved by ``δ`` along a wall of curvature ``κ`` is ``κ δ²/2``, so the rounds converge quadratically.
+The lumen's wall is curved, so its exact row ``D(p_k) ≥ d/2`` (``D`` the signed distance to the wall, > 0 inside) is
+nonlinear in the node position. This block writes it, node by node, as the second-order model of ``D`` around the
+node's position ``p⁰_k`` when the row was made — ``D⁰ − n · (p − p⁰) + ½ (p − p⁰)ᵀ κ/(1 + κ D⁰) t tᵀ (p − p⁰)``
+with ``n`` the outward normal and ``t`` the tangent at the nearest wall point and ``κ`` the wall's curvature there
+(the exact Hessian of the distance to a curve of curvature ``κ``) — a quadratic
+:class:`~guidewire.blocks.base.NodeRows` row (paper Eqs. 23–24 with the wall's curvature). SQP with this row converges
+like Newton's method within a round (a tangent line alone leaves out ``λ ∇²D`` from the Lagrangian Hessian and
+converged linearly, over many rounds, on a tortuous vessel); :meth:`Lumen.refine` then re-centres the model on the
+answer and solves again only when the model and the true distance disagree.
 
 ``sag_k = l² κ⁺ / 8`` keeps the chord of a bar of length ``l`` from cutting through a wall that bulges into the lumen
 (curvature ``κ⁺ > 0``: the inner wall of a bend; 43 µm for ``l = 1`` mm, ``ρ = 2.9`` mm).
@@ -36,11 +38,14 @@ NEAR_FRACTION = 0.25
 """… or closer than this fraction of the lumen radius there (the distance from the wall of the lumen's centre)."""
 
 PLANE_TOLERANCE = 10.0
-"""A tangent line its node touches is moved when the true clearance of the node differs from the line's by more than
+"""A row its node touches is re-centred when the true clearance of the node differs from the row's model by more than
 this times the solve tolerance ``tol · max(1, L)`` (mm)."""
 
+MIN_DENOMINATOR = 0.1
+"""Floor of ``1 + κ D⁰`` in the distance's curvature ``κ/(1 + κ D⁰)`` (a node far outside a bulging wall)."""
+
 TOUCHING_BARS = 0.1
-"""A node within this many bar lengths of its line touches it (only those lines need to be exact)."""
+"""A node within this many bar lengths of its row's bound touches it (only those rows need to be exact)."""
 
 
 def _needed(model: Model, curvature: FloatArray, nodes: IntArray) -> FloatArray:
@@ -52,19 +57,28 @@ def _needed(model: Model, curvature: FloatArray, nodes: IntArray) -> FloatArray:
 
 @dataclass(frozen=True)
 class Lumen(Block):
-    """Tangent-line rows ``n_k · p_k ≤ offset_k`` keeping the nodes of the working set inside ``scene.vessel``.
+    """Rows keeping the nodes of the working set inside ``scene.vessel`` (see the module docstring).
 
     Attributes
     ----------
+    centres : ndarray, shape (rows, 2)
+        Node positions ``p⁰`` where each row's model is taken (mm).
     normals : ndarray, shape (rows, 2)
-        Outward unit normal of the wall at each row's linearisation point.
-    offsets : ndarray, shape (rows,)
-        ``n_k · b_k − needed clearance`` (mm).
+        Outward unit normal of the wall at the nearest wall point.
+    depths : ndarray, shape (rows,)
+        ``D⁰``: signed distance of ``p⁰`` to the wall (mm, > 0 inside).
+    curvatures : ndarray, shape (rows,)
+        Wall curvature there (1/mm, > 0 where it bulges into the lumen).
+    needed : ndarray, shape (rows,)
+        Clearance each node needs (mm): ``d/2`` plus the chord sag.
     """
 
     kind: ClassVar[str] = "lumen"
+    centres: FloatArray = field(default_factory=lambda: np.zeros((0, 2)), compare=False)
     normals: FloatArray = field(default_factory=lambda: np.zeros((0, 2)), compare=False)
-    offsets: FloatArray = field(default_factory=lambda: np.zeros(0), compare=False)
+    depths: FloatArray = field(default_factory=lambda: np.zeros(0), compare=False)
+    curvatures: FloatArray = field(default_factory=lambda: np.zeros(0), compare=False)
+    needed: FloatArray = field(default_factory=lambda: np.zeros(0), compare=False)
 
     @classmethod
     def build(cls, model: Model, working_set: Any = None) -> list[Block]:
@@ -78,7 +92,7 @@ class Lumen(Block):
             nodes = cls._near(model, points)
         else:
             nodes = np.unique(np.asarray(working_set.get(("lumen", (0,)), np.arange(1, model.n + 1)), dtype=int))
-        return [cls._linearised(model, nodes, points)]
+        return [cls._modelled(model, nodes, points)]
 
     @staticmethod
     def _near(model: Model, points: FloatArray) -> IntArray:
@@ -90,16 +104,30 @@ class Lumen(Block):
         return near if near.size else np.array([int(np.argmin(slack)) + 1])
 
     @classmethod
-    def _linearised(cls, model: Model, nodes: IntArray, points: FloatArray) -> Lumen:
+    def _modelled(cls, model: Model, nodes: IntArray, points: FloatArray) -> Lumen:
         c = model.scene.vessel.clearance(points[nodes])
-        offsets = np.einsum("ij,ij->i", c.normal, c.boundary) - _needed(model, c.curvature, nodes)
-        return cls((0,), np.asarray(nodes, dtype=int), normals=c.normal, offsets=offsets)
+        return cls((0,), np.asarray(nodes, dtype=int), centres=points[nodes].copy(), normals=c.normal,
+                   depths=c.distance, curvatures=c.curvature, needed=_needed(model, c.curvature, nodes))
 
     def rows(self, model: Model) -> NodeRows:
-        return NodeRows(self.nodes, -self.normals, -self.offsets, np.full(self.size, np.inf))
+        tangent = np.column_stack((-self.normals[:, 1], self.normals[:, 0]))
+        weight = self.curvatures / np.maximum(1.0 + self.curvatures * self.depths, MIN_DENOMINATOR)
+        hessians = weight[:, None, None] * tangent[:, :, None] * tangent[:, None, :]
+        d = -self.normals
+        lb = self.needed - self.depths + np.einsum("ij,ij->i", d, self.centres)
+        return NodeRows(self.nodes, d, lb, np.full(self.size, np.inf), hessians=hessians, centres=self.centres)
 
     def add_loads(self, model: Model, lam: FloatArray, loads: Loads) -> None:
-        np.add.at(loads.node_forces, self.nodes, -np.asarray(lam, dtype=float)[:, None] * self.normals)
+        """The wall pushes node ``k`` with ``λ_k`` along the row's gradient (``−n`` at the model's centre)."""
+        rows = self.rows(model)
+        np.add.at(loads.node_forces, self.nodes, np.asarray(lam, dtype=float)[:, None] * rows.gradients(
+            self._points(model)))
+
+    def _points(self, model: Model) -> FloatArray:
+        """Node positions (n + 1, 2) with the rows' nodes at their model centres (where the loads are evaluated)."""
+        out = np.zeros((model.n + 1, 2))
+        out[self.nodes] = self.centres
+        return out
 
     def slack(self, model: Model, points: FloatArray) -> FloatArray:
         """True clearance minus the clearance needed, at every node 1..n (mm; negative: outside the lumen)."""
@@ -107,22 +135,23 @@ class Lumen(Block):
         return c.distance - _needed(model, c.curvature, np.arange(1, model.n + 1))
 
     def violation(self, model: Model, phi: FloatArray, points: FloatArray | None = None) -> FloatArray:
-        """Violation at *every* node 1..n against the true (curved) lumen, not only the working set's lines."""
+        """Violation at *every* node 1..n against the true (curved) lumen, not only the working set's rows."""
         points = model.chain.nodes(phi) if points is None else points
         return np.maximum(-self.slack(model, points), 0.0)
 
     def refine(self, model: Model, phi: FloatArray, tolerance: float) -> Block | None:
-        """Add the nodes that leave the lumen (and their neighbours) and move every line touched by its node whose
-        true clearance differs from the line's by more than :data:`PLANE_TOLERANCE` ``× tolerance`` to the wall
-        point nearest the node; None when neither is needed."""
+        """Add the nodes that leave the lumen (and their neighbours) and re-centre every row whose node nearly
+        touches it while the model and the true distance there differ by more than :data:`PLANE_TOLERANCE`
+        ``× tolerance``; None when neither is needed."""
         points = model.chain.nodes(phi)
         slack = self.slack(model, points)
         violated = np.flatnonzero(slack < -tolerance) + 1
-        line_slack = self.offsets - np.einsum("ij,ij->i", self.normals, points[self.nodes])
-        touching = line_slack <= TOUCHING_BARS * float(np.max(model.chain.lengths))
-        stale = touching & (np.abs(slack[self.nodes - 1] - line_slack) > PLANE_TOLERANCE * tolerance)
+        rows = self.rows(model)
+        model_slack = rows.values(points) - rows.lb
+        touching = model_slack <= TOUCHING_BARS * float(np.max(model.chain.lengths))
+        stale = touching & (np.abs(slack[self.nodes - 1] - model_slack) > PLANE_TOLERANCE * tolerance)
         if not violated.size and not np.any(stale):
             return None
         extra = np.clip(np.concatenate([violated - 1, violated, violated + 1]), 1, model.n)
         nodes = np.union1d(self.nodes, extra)
-        return replace(self._linearised(model, nodes, points), index=self.index)
+        return replace(self._modelled(model, nodes, points), index=self.index)

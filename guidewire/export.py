@@ -104,8 +104,11 @@ def _fit(nodes: FloatArray, s: FloatArray, k: int, *, legacy: bool) -> tuple[Flo
     return np.array(knots, dtype=float), np.array(coefficients, dtype=float).T[:m].copy()
 
 
-def read_records(path: str | Path) -> list[dict[str, Any]]:
+def read_records(path: str | Path, *, latest: bool = True) -> list[dict[str, Any]]:
     """The records of a batch's JSON-lines file, in file order (blank lines skipped).
+
+    With ``latest`` (default), a scene file recorded more than once (a resumed run retries a file that could not be
+    read or run) counts by its last record, in that record's place.
 
     Raises
     ------
@@ -124,6 +127,9 @@ def read_records(path: str | Path) -> list[dict[str, Any]]:
             if not isinstance(item, dict):
                 raise ValueError(f"{path}: line {number} is {type(item).__name__}; expected a JSON object.")
             records.append(item)
+    if latest:
+        last = {item["file"]: i for i, item in enumerate(records) if isinstance(item.get("file"), str)}
+        records = [item for i, item in enumerate(records) if last.get(item.get("file"), i) == i]
     return records
 
 

@@ -13,6 +13,7 @@ Modules: :mod:`~guidewire.scene` (values), :mod:`~guidewire.scene_file` (TOML), 
 paper's scenes), :mod:`~guidewire.plot` (figures, needs matplotlib), :mod:`~guidewire.cli` (``python -m guidewire``).
 """
 
+from .batch import SceneError, solve_many
 from .formulation import Formulation, formulate
 from .paper import paper_groups, paper_scenes
 from .result import Reaction, Solution
@@ -27,6 +28,7 @@ __all__ = [
     "Formulation",
     "Reaction",
     "Scene",
+    "SceneError",
     "SequenceResult",
     "Solution",
     "Wall",
@@ -37,5 +39,6 @@ __all__ = [
     "paper_scenes",
     "scene_to_toml",
     "solve",
+    "solve_many",
     "solve_sequence",
 ]

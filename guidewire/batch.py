@@ -128,10 +128,14 @@ def default_executor(workers: int | None = None) -> ProcessPoolExecutor:
     Its workers start from a fork server (spawned on platforms without one) rather than by forking this process,
     which may hold threads (BLAS, a Dask client, a progress bar) that a fork would copy mid-flight.
     """
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-        raise ValueError(f"workers is {workers!r}; expected a whole number of processes, at least 1.")
+    _check_workers(workers)
     method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
     return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context(method))
+
+
+def _check_workers(workers: Any) -> None:
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise ValueError(f"workers is {workers!r}; expected a whole number of processes, at least 1.")
 
 
 def _progress_bar(total: int, enabled: bool) -> Any:
@@ -166,6 +170,7 @@ def solve_iter(
             raise TypeError(f"scenes[{i}] is {type(scene).__name__}; expected guidewire.Scene.")
     if isinstance(chunksize, bool) or not isinstance(chunksize, int) or chunksize < 1:
         raise ValueError(f"chunksize is {chunksize!r}; expected a whole number of scenes per task, at least 1.")
+    _check_workers(workers)
     if executor is not None and workers is not None:
         raise ValueError("give workers (the size of the default process pool) or executor, not both.")
     if executor is not None and not callable(getattr(executor, "submit", None)):

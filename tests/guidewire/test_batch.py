@@ -3,6 +3,7 @@ result; the JSON-lines run resumes; the exports load (the B-spline reproduces th
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import multiprocessing
 import pickle
@@ -105,7 +106,6 @@ def test_dask_local_cluster_gives_the_serial_results(serial):
 
 
 def test_default_pool_as_completed_with_progress_bar(serial, capsys):
-    pytest.importorskip("tqdm")
     picked = [0, 7, 13]
     results = solve_many([SCENES[i] for i in picked], workers=2, ordered=False, progress=True)
     assert sorted(SCENES.index(r.scene) for r in results) == picked  # each result says which scene it is
@@ -115,7 +115,8 @@ def test_default_pool_as_completed_with_progress_bar(serial, capsys):
             assert isinstance(result, SceneError) and result.error == str(want)
         else:
             assert result.energy == want.energy and np.array_equal(result.nodes, want.nodes)
-    assert "3/3" in capsys.readouterr().err  # the bar counted every scene
+    if importlib.util.find_spec("tqdm") is not None:  # the bar is optional
+        assert "3/3" in capsys.readouterr().err  # it counted every scene
 
 
 def test_chunks_and_a_lost_task_become_results(serial):

@@ -288,3 +288,12 @@ def test_spline_export_reproduces_the_nodes(tmp_path, serial, monkeypatch):
         wire_spline(solved[0].nodes, solved[0].s[::-1])
     with pytest.raises(ValueError, match="nodes has shape"):
         wire_spline([1.0, 2.0], [0.0, 1.0])
+
+
+def test_default_pool_workers_run_one_blas_thread():
+    threadpoolctl = pytest.importorskip("threadpoolctl")
+    from guidewire.batch import default_executor
+
+    with default_executor(1) as pool:
+        pools = pool.submit(threadpoolctl.threadpool_info).result()
+    assert pools and all(p["num_threads"] == 1 for p in pools)  # numpy's BLAS is loaded and held to one thread

@@ -16,7 +16,7 @@ from scipy.interpolate import BSpline
 
 import guidewire
 from guidewire import SceneError, cli, export, solve, solve_many
-from guidewire.batch import done_files, slim, solve_files, solve_iter
+from guidewire.batch import done_files, slim, solve_files, solve_iter, solve_one
 from guidewire.export import load_shapes, read_records, save_shapes, wire_spline
 from guidewire.paper import paper_scenes, scene_path
 
@@ -295,5 +295,6 @@ def test_default_pool_workers_run_one_blas_thread():
     from guidewire.batch import default_executor
 
     with default_executor(1) as pool:
+        assert pool.submit(solve_one, SCENES[0], {}).result().success  # numpy and its BLAS are loaded
         pools = pool.submit(threadpoolctl.threadpool_info).result()
     assert pools and all(p["num_threads"] == 1 for p in pools)  # numpy's BLAS is loaded and held to one thread

@@ -14,6 +14,7 @@ paper's scenes), :mod:`~guidewire.vessel` (vessel lumens), :mod:`~guidewire.plot
 :mod:`~guidewire.cli` (``python -m guidewire``).
 """
 
+from .batch import SceneError, solve_many
 from .formulation import Formulation, formulate
 from .insertion import Insertion, insert
 from .paper import paper_groups, paper_scenes
@@ -33,6 +34,7 @@ __all__ = [
     "Insertion",
     "Reaction",
     "Scene",
+    "SceneError",
     "SequenceResult",
     "Solution",
     "Vessel",
@@ -45,5 +47,6 @@ __all__ = [
     "paper_scenes",
     "scene_to_toml",
     "solve",
+    "solve_many",
     "solve_sequence",
 ]

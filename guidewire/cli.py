@@ -141,6 +141,21 @@ def build_parser() -> argparse.ArgumentParser:
     paper.add_argument("--out", type=Path, required=True, help="output directory")
     _add_qp_solver(paper)
     paper.add_argument("--no-figures", action="store_true", help="tables only")
+    batch = sub.add_parser("batch", help="solve many scene files, one JSON line each (resumable)")
+    batch.add_argument("scenes", type=Path, nargs="+", help="scene files (TOML) or directories of them (*.toml)")
+    batch.add_argument("--out", type=Path, required=True, help="JSON-lines output, appended to: scenes already in "
+                       "it are skipped")
+    batch.add_argument("--workers", type=_positive_int, help="local worker processes (default: one per CPU)")
+    batch.add_argument("--scheduler", metavar="ADDRESS", help="solve on the Dask cluster of this scheduler "
+                       "(tcp://host:8786; needs pip install 'guidewire-sqp[cluster]')")
+    batch.add_argument("--npz", type=Path, help="then write the shapes and B-splines of every scene in --out")
+    batch.add_argument("--chunksize", type=_positive_int, default=1, help="scenes per task (default 1)")
+    batch.add_argument("--bars", type=_positive_int, help="number of bars (default: each file's)")
+    batch.add_argument("--scheme", choices=SCHEMES, help="energy discretisation (default: each file's)")
+    _add_qp_solver(batch)
+    batch.add_argument("--max-iter", type=_positive_int, default=500, help="SQP iteration limit")
+    batch.add_argument("--tol", type=float, default=1e-8, help="SQP tolerance")
+    batch.add_argument("--no-progress", action="store_true", help="no progress bar")
     return parser
 
 
@@ -255,10 +270,47 @@ def _paper(args: argparse.Namespace) -> int:
     return EXIT_NOT_CONVERGED if failures(rows) else EXIT_OK
 
 
+def _batch(args: argparse.Namespace) -> int:
+    """``batch``: every scene runs (a failure is a record), so the status is 0 unless the arguments are bad."""
+    from .batch import solve_files
+    from .export import read_records, save_shapes
+
+    if args.workers is not None and args.scheduler is not None:
+        raise BadInput("give --workers (local processes) or --scheduler (a Dask cluster), not both")
+    if args.out.is_dir():
+        raise BadInput(f"--out {args.out}: a directory; give the JSON-lines file to write")
+    client = None
+    if args.scheduler is not None:
+        try:
+            from distributed import Client
+        except ImportError:
+            raise BadInput("--scheduler needs Dask: pip install 'guidewire-sqp[cluster]'") from None
+        try:
+            client = Client(args.scheduler, timeout="10s")
+        except (OSError, ValueError, TypeError) as exc:
+            raise BadInput(f"--scheduler {args.scheduler}: cannot connect ({exc})") from None
+    options = {"bars": args.bars, "scheme": args.scheme, "qp_solver": _qp_solver(args), "tol": args.tol,
+               "max_iter": args.max_iter}
+    try:
+        summary = solve_files(args.scenes, args.out, executor=None if client is None else client.get_executor(),
+                              workers=args.workers, progress=not args.no_progress, chunksize=args.chunksize,
+                              **options)
+    except (ValueError, TypeError) as exc:
+        raise BadInput(str(exc)) from None
+    finally:
+        if client is not None:
+            client.close()
+    print(f"{args.out}: {summary}")
+    if args.npz is not None:
+        count = save_shapes(read_records(args.out), args.npz)
+        print(f"{args.npz}: shapes and B-splines of {count} scenes")
+    return EXIT_OK
+
+
 def _run(argv: Sequence[str] | None) -> int:
     try:
         args = build_parser().parse_args(argv)
-        return {"solve": _solve, "insert": _insert, "paper": _paper}[args.command](args)
+        return {"solve": _solve, "insert": _insert, "batch": _batch, "paper": _paper}[args.command](args)
     except BadInput as exc:
         print("error: " + " ".join(str(exc).split()), file=sys.stderr)
         return EXIT_BAD_INPUT

@@ -90,6 +90,15 @@ def _advanced_angles(prev: Solution, scene: Scene, bars: int) -> FloatArray:
     return np.where(s_mid < shift, fresh, carried)
 
 
+def _tracked_angles(prev: Solution, scene: Scene, bars: int) -> FloatArray:
+    """Start angles for ``scene`` from the previous step, the wire sliding along its own track: the first
+    ``L_prev`` of the new wire lies where the previous wire lay, the new ``ΔL`` continues the previous tip's tangent
+    (a follow-the-leader predictor: inside a tortuous lumen it stays inside, where a pushed copy does not)."""
+    s_mid = (np.arange(bars) + 0.5) * (scene.wire.length / bars)
+    s_old = 0.5 * (prev.s[1:] + prev.s[:-1])
+    return np.interp(s_mid, s_old, prev.bar_angles)  # beyond the old tip: its last bar's angle
+
+
 def _advanced_multipliers(prev: Solution, bars: int) -> Solution:
     """The previous step as a warm start for the multipliers: node rows (walls, lumen) moved with the material, by
     the number of bars inserted (contacts and angle rows stay with their contact)."""
@@ -98,7 +107,10 @@ def _advanced_multipliers(prev: Solution, bars: int) -> Solution:
     return replace(prev, blocks=moved)
 
 
-def insert(scene: Scene, lengths: Iterable[float], **options: Any) -> Insertion:
+PREDICTORS = ("track", "push")
+
+
+def insert(scene: Scene, lengths: Iterable[float], *, predictor: str = "track", **options: Any) -> Insertion:
     """Advance the wire of ``scene`` through the inserted ``lengths`` (mm, increasing), one quasi-static solve each.
 
     Parameters
@@ -107,6 +119,10 @@ def insert(scene: Scene, lengths: Iterable[float], **options: Any) -> Insertion:
         The scene (a vessel, walls, contacts); its ``wire.bars / wire.length`` is kept as the bar density.
     lengths : iterable of float
         Inserted lengths (mm), strictly increasing and positive.
+    predictor : {"track", "push"}
+        How a step starts from the previous one: ``"track"`` (default) — the wire slides along its previous shape
+        and the new length continues the tip; ``"push"`` — the previous shape moves with the material, pushed in by
+        ``ΔL``, the new length along the centreline at the entrance.
     **options
         Passed to :func:`guidewire.solve` (``hessian``, ``qp_solver``, ``tol``, ``max_iter``, ...); not ``bars``,
         ``initial_angles`` or ``multipliers0`` (the insertion sets them).
@@ -124,6 +140,8 @@ def insert(scene: Scene, lengths: Iterable[float], **options: Any) -> Insertion:
     values = tuple(float(v) for v in lengths)
     if not values:
         raise ValueError("lengths is empty; give the inserted lengths (mm), e.g. numpy.arange(10, 101, 1.0).")
+    if predictor not in PREDICTORS:
+        raise ValueError(f"predictor is {predictor!r}; expected one of {PREDICTORS}.")
     increasing = all(b > a for a, b in zip(values, values[1:], strict=False))
     if not all(math.isfinite(v) and v > 0 for v in values) or not increasing:
         raise ValueError("lengths must be positive and strictly increasing (mm); an insertion step must be positive.")
@@ -140,8 +158,12 @@ def insert(scene: Scene, lengths: Iterable[float], **options: Any) -> Insertion:
             if not steps:
                 sol, how = solve(step_scene, **options), "cold"
             else:
-                sol = solve(step_scene, initial_angles=_advanced_angles(steps[-1], step_scene, bars),
-                            multipliers0=_advanced_multipliers(steps[-1], bars), **options)
+                if predictor == "track":
+                    start, lam = _tracked_angles(steps[-1], step_scene, bars), steps[-1]
+                else:
+                    start, lam = (_advanced_angles(steps[-1], step_scene, bars),
+                                  _advanced_multipliers(steps[-1], bars))
+                sol = solve(step_scene, initial_angles=start, multipliers0=lam, **options)
                 how = "warm"
                 if not sol.success:
                     cold = solve(step_scene, **options)

@@ -35,13 +35,16 @@ FALLBACK_STATUSES = tuple(status.code for status in (
 FALLBACK = "damped BFGS"
 
 
-def choose_layout(bars: int, hessian: str = "exact") -> str:
+def choose_layout(bars: int, hessian: str = "exact", scene: Scene | None = None) -> str:
     """What ``layout="auto"`` means: the reduced program (angles only) up to :data:`FULL_SPACE_BARS` bars, where its
     dense QPs are fastest, and the full-space one (:mod:`guidewire.full_space`: angles and nodes, every row sparse)
     above, with the exact Hessian. Measured on Fig. 6a at 400 / 1600 bars: reduced 2.1 s / 76 s, full 28 ms / 0.10 s;
     Table 1 (π/4) at 1600 bars: reduced 68 ms, full 51 ms; the paper scenes at 150 bars: reduced 1.6-2x faster, at
     200 a tie (reduced 0.7-1x the time), at 300 full 1.3-1.7x faster. The BFGS path stays reduced (the paper's
-    algorithm)."""
+    algorithm), and so do vessel scenes: with the lumen's curved (quadratic) rows the full-space program is not yet
+    reliable (the aortic arch at 245 bars ended MAX_ITER three rounds running, where the reduced one converges)."""
+    if scene is not None and scene.vessel is not None:
+        return "reduced"
     return "full" if hessian == "exact" and bars > FULL_SPACE_BARS else "reduced"
 
 
@@ -139,7 +142,7 @@ def _solve(scene: Scene, start: float, scheme: str | None, bars: int | None, ini
            qp_options: dict[str, Any] | None, tol: float, max_iter: int, verbose: bool) -> Solution:
     n_bars = scene.wire.bars if bars is None else bars
     if layout == "auto":
-        layout = choose_layout(n_bars, hessian) if isinstance(n_bars, int) else "reduced"
+        layout = choose_layout(n_bars, hessian, scene) if isinstance(n_bars, int) else "reduced"
     form = formulate(scene, layout=layout, scheme=scheme, bars=bars, initial_angles=initial_angles,
                      initial_nodes=initial_nodes, wall_nodes="near" if layout == "reduced" else None)
     options = {"qp_solver": None if qp_solver == "auto" else qp_solver, "qp_options": qp_options, "tol": tol,

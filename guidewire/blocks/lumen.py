@@ -37,7 +37,7 @@ NEAR_BARS = 3.0
 NEAR_FRACTION = 0.25
 """… or closer than this fraction of the lumen radius there (the distance from the wall of the lumen's centre)."""
 
-PLANE_TOLERANCE = 10.0
+PLANE_TOLERANCE = 1.0
 """A row its node touches is re-centred when the true clearance of the node differs from the row's model by more than
 this times the solve tolerance ``tol · max(1, L)`` (mm)."""
 

@@ -120,8 +120,12 @@ class Result(OptimizeResult):
         ``lam < 0`` when the upper side is.
     bound_multipliers : ndarray (n,)
         Positive at an active lower bound, negative at an active upper bound.
-    multipliers : dict
-        The same by block: ``"eq"`` (equality rows), ``"ineq"`` (inequality rows), ``"bounds"``.
+    multipliers : ndarray
+        As scipy's SLSQP returns them: equality rows first, then inequality rows, in SLSQP's order, ``>= 0`` on
+        every inequality written ``g(x) >= 0`` (an upper side is ``ub - c(x) >= 0``); no bound multipliers
+        (:attr:`sqp.problem.Problem.slsqp_rows`).
+    x0_clipped : ndarray of int
+        Indices where ``x0`` lay outside the bounds and was clipped onto them.
     kkt : KKTResiduals
         ``stationarity``, ``feasibility``, ``complementarity`` at ``x``, as attributes and as a read-only mapping
         (``res.kkt["stationarity"]``).
@@ -166,9 +170,7 @@ def build_result(
     else:
         kkt = KKTResiduals.unknown()
     maxcv = max_violation(problem, xx, c, np.asarray(r).ravel()) if np.all(np.isfinite(c)) else np.inf
-    eq_rows = np.concatenate([lam_nl[problem.nonlinear.eq], lam_lin[problem.linear.eq]])
-    ineq_nl = np.setdiff1d(np.arange(lam_nl.size), problem.nonlinear.eq)
-    ineq_lin = np.setdiff1d(np.arange(lam_lin.size), problem.linear.eq)
+    per_constraint = problem.split_multipliers(lam_lin, lam_nl)
     message = status.message
     if status is Status.MAX_ITER:
         message = message.replace("max_iter", f"max_iter (now {nit})")
@@ -178,9 +180,10 @@ def build_result(
         x=xx.copy(), fun=float(f), jac=g, success=status.success,
         status=status, message=message,
         nit=nit, nfev=ev.nfev, njev=ev.njev, maxcv=float(maxcv),
-        constraint_multipliers=problem.split_multipliers(lam_lin, lam_nl),
+        constraint_multipliers=per_constraint,
         bound_multipliers=z.copy(),
-        multipliers={"eq": eq_rows, "ineq": np.concatenate([lam_nl[ineq_nl], lam_lin[ineq_lin]]), "bounds": z.copy()},
+        multipliers=problem.slsqp_multipliers(per_constraint),
+        x0_clipped=problem.x0_clipped.copy(),
         nhev=ev.nhev, kkt=kkt, history=history, hess=B, status_name=status.name,
         solve_time=time.perf_counter() - t_start,
     )

@@ -186,28 +186,31 @@ class Problem:
         return out
 
     @cached_property
-    def slsqp_rows(self) -> tuple[NDArray[np.intp], Array]:
-        """Where SLSQP's multiplier array comes from: ``res.multipliers = sign * flat[index]``, with ``flat`` the
-        per-constraint multipliers concatenated in the order given.
+    def slsqp_rows(self) -> tuple[NDArray[np.intp], Array, NDArray[np.bool_]]:
+        """Where SLSQP's multiplier array comes from: ``res.multipliers = sign * flat[index]`` (clipped at 0 on the
+        rows of ``two_sided``), with ``flat`` the per-constraint multipliers concatenated in the order given.
 
         scipy's SLSQP turns each ``NonlinearConstraint``/``LinearConstraint`` into an equality dict (its ``lb == ub``
         rows, in its place) and an inequality dict (rows with a finite lower side as ``fun - lb >= 0``, then rows
         with a finite upper side as ``ub - fun >= 0``; in its place when there are no equality rows, else appended
         after every constraint); rows unbounded on both sides are dropped. It then lists every equality row, then
         every inequality row, and its multipliers are ``>= 0`` on ``g(x) >= 0`` with ``grad f = sum mu grad g``:
-        ours on a lower side, and ours negated on an upper side.
+        ours on a lower side, and ours negated on an upper side; a row with both sides finite appears twice, its
+        multiplier on the side its sign belongs to and 0 on the other.
         """
         offsets = np.cumsum([0] + [lb.size for lb, _ in self.constraint_sides()])
-        placed: list[tuple[str, Array, Array]] = []
-        appended: list[tuple[str, Array, Array]] = []
+        placed: list[tuple[str, Array, Array, NDArray[np.bool_]]] = []
+        appended: list[tuple[str, Array, Array, NDArray[np.bool_]]] = []
         for k, (lb, ub) in enumerate(self.constraint_sides()):
             eq = lb == ub
             low = np.flatnonzero(~eq & np.isfinite(lb))
             up = np.flatnonzero(~eq & np.isfinite(ub))
+            both = np.isfinite(lb) & np.isfinite(ub) & ~eq
             ineq = ("ineq", offsets[k] + np.concatenate([low, up]),
-                    np.concatenate([np.ones(low.size), -np.ones(up.size)]))
+                    np.concatenate([np.ones(low.size), -np.ones(up.size)]), np.concatenate([both[low], both[up]]))
             if np.any(eq):
-                placed.append(("eq", offsets[k] + np.flatnonzero(eq), np.ones(int(np.sum(eq)))))
+                placed.append(("eq", offsets[k] + np.flatnonzero(eq), np.ones(int(np.sum(eq))),
+                               np.zeros(int(np.sum(eq)), dtype=bool)))
                 if ineq[1].size:
                     appended.append(ineq)
             elif ineq[1].size:
@@ -215,14 +218,16 @@ class Problem:
         order = placed + appended
         parts = [p for p in order if p[0] == "eq"] + [p for p in order if p[0] == "ineq"]
         if not parts:
-            return np.zeros(0, dtype=np.intp), np.zeros(0)
-        return (np.concatenate([p[1] for p in parts]).astype(np.intp), np.concatenate([p[2] for p in parts]))
+            return np.zeros(0, dtype=np.intp), np.zeros(0), np.zeros(0, dtype=bool)
+        return (np.concatenate([p[1] for p in parts]).astype(np.intp), np.concatenate([p[2] for p in parts]),
+                np.concatenate([p[3] for p in parts]))
 
     def slsqp_multipliers(self, per_constraint: list[Array]) -> Array:
         """The multipliers as scipy's SLSQP returns them (:attr:`slsqp_rows`) from one array per constraint."""
-        index, sign = self.slsqp_rows
+        index, sign, two_sided = self.slsqp_rows
         flat = np.concatenate(per_constraint) if per_constraint else np.zeros(0)
-        return sign * flat[index]
+        out = sign * flat[index]
+        return np.where(two_sided, np.maximum(out, 0.0), out)
 
     def split_multipliers(self, lam_lin: Array, lam_nl: Array) -> list[Array]:
         """The stacked row multipliers as one array per user constraint, in the order given."""

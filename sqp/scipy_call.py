@@ -23,9 +23,14 @@ from sqp.derivatives import SLSQP_EPS, FiniteDifferences
 #: The ``options`` keys scipy's SLSQP reads (``scipy.optimize._slsqp_py._minimize_slsqp``).
 SLSQP_OPTIONS = ("maxiter", "ftol", "iprint", "disp", "eps", "finite_diff_rel_step", "workers")
 
-#: The KKT tolerance when neither ``tol`` nor ``options["ftol"]`` is given. Stricter than SLSQP's ``ftol = 1e-6``,
-#: which bounds the change of ``f`` and the sum of the violations rather than scaled KKT residuals.
+#: The KKT tolerance when neither ``tol`` nor ``options["ftol"]`` is given and the gradient is the user's. Stricter
+#: than SLSQP's ``ftol = 1e-6``, which bounds the change of ``f`` and the sum of the violations rather than scaled
+#: KKT residuals.
 DEFAULT_TOL = 1e-8
+
+#: The same with a finite-difference gradient: SLSQP's own default ``ftol``. A forward difference with SLSQP's step
+#: ``sqrt(machine epsilon) = 1.5e-8`` has an error of that order, so 1e-8 would be out of its reach.
+DEFAULT_TOL_DIFFERENCES = 1e-6
 
 #: The iteration limit when neither ``max_iter`` nor ``options["maxiter"]`` is given (SLSQP's default is 100).
 DEFAULT_MAX_ITER = 500
@@ -41,7 +46,8 @@ class CallSettings:
     Attributes
     ----------
     tol : float
-        KKT tolerance (``options["ftol"]``, else ``tol``, else :data:`DEFAULT_TOL`).
+        KKT tolerance (``options["ftol"]``, else ``tol``, else :data:`DEFAULT_TOL` with a gradient given and
+        :data:`DEFAULT_TOL_DIFFERENCES` with a finite-difference one).
     max_iter : int
         Iteration limit (``max_iter``, else ``options["maxiter"]``, else :data:`DEFAULT_MAX_ITER`).
     disp : bool
@@ -91,7 +97,7 @@ def read_settings(jac: Any, tol: float | None, options: dict[str, Any] | None, m
     disp = bool(opts.get("disp", False)) and iprint >= 1
     eps = float(opts.get("eps", SLSQP_EPS))
     return CallSettings(
-        tol=float(opts.get("ftol", DEFAULT_TOL)),
+        tol=float(opts.get("ftol", DEFAULT_TOL if callable(jac) or jac is True else DEFAULT_TOL_DIFFERENCES)),
         max_iter=_as_int(max_iter if max_iter is not None else opts.get("maxiter", DEFAULT_MAX_ITER)),
         disp=disp,
         table=bool(verbose) or (disp and iprint >= 2),

@@ -111,7 +111,8 @@ def minimize(
         in every QP.
     tol : float, optional
         Tolerance on the scaled KKT residuals and on the violation; sets ``options["ftol"]`` when that is absent,
-        as in scipy. Without either: 1e-8 (SLSQP's ``ftol`` default is 1e-6, on the change of ``f``).
+        as in scipy. Without either: 1e-8 with a gradient ``jac``, 1e-6 (SLSQP's ``ftol`` default) with finite
+        differences, whose error is of order 1e-8.
     callback : callable, optional
         ``callback(xk)``, or ``callback(intermediate_result)`` when that is its only parameter's name (scipy's rule:
         an ``OptimizeResult`` with ``x, fun, nit, nfev, maxcv, kkt``), after each iteration; raising

@@ -13,6 +13,7 @@ from __future__ import annotations
 import time
 import warnings
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -241,6 +242,9 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
     stalled = 0
     best: tuple[KKTResiduals, QPStep] | None = None
     least = (max_violation(problem, pt.x, pt.c, pt.r), pt.x)  # the least violation reached, and where
+    least_trace = [least[0]]  # the least violation after each iteration
+    elastic_run = 0  # consecutive iterations whose QP was elastic
+    origin = Origin(f=pt.f, x_scale=max(1.0, float(np.max(np.abs(pt.x)))))
     for nit in range(options.max_iter + 1):
         ev.nit = nit + 1  # evaluations from here to the acceptance of the next point belong to iteration nit + 1
         if exact:  # the exact Lagrangian Hessian at (x_k, lam_{k-1}), made positive definite
@@ -325,6 +329,16 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
         history.append(rec)
         if rec.maxcv < least[0]:
             least = (rec.maxcv, new_pt.x)
+        least_trace.append(least[0])
+        elastic_run = elastic_run + 1 if qp.elastic else 0
+        if diverging(origin, new_pt, rec.maxcv, options.tol):
+            status = Status.UNBOUNDED
+            detail = (f"At iteration {nit + 1} f = {new_pt.f:.3e} (from {origin.f:.3e}) at a feasible x with "
+                      f"||x||_inf = {np.max(np.abs(new_pt.x)):.3e}.")
+            break
+        if infeasibility_stalled(least_trace, elastic_run, options.tol):
+            status = Status.INFEASIBLE
+            break
         if options.verbose:
             print(format_row(rec))
         if options.callback is not None:
@@ -349,6 +363,48 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
         detail = f"Least violation reached: {least[0]:.2e} at x = {format_point(least[1])}."
     return build_result(problem, ev, st.pt, st.der, st.qp, status, history, t_start, B=st.B, nit=len(history),
                         detail=detail)
+
+
+#: Iterates diverge (status UNBOUNDED) at a feasible point whose objective fell below ``f(x0)`` by this factor of
+#: ``max(1, |f(x0)|)`` while ``||x||_inf`` grew beyond this factor of ``max(1, ||x0||_inf)``: ten orders of magnitude
+#: in both, far from any Hock–Schittkowski solve. (IPOPT's ``diverging_iterates_tol`` is an absolute 1e20 on x
+#: alone; on a linear objective the damped-BFGS steps grow geometrically, so 1e10 is reached in about a dozen
+#: iterations.)
+DIVERGENCE_FACTOR = 1e10
+
+#: Consecutive elastic iterations without a 1 % reduction of the least violation reached after which the solve
+#: ends INFEASIBLE: the elastic steps no longer reduce the violation, so the iterates circle a local minimiser of it
+#: (Fletcher & Leyffer's filter SQP and SNOPT's elastic mode stop on the same evidence).
+INFEASIBLE_STALL = 10
+
+#: The relative reduction of the least violation that counts as progress within :data:`INFEASIBLE_STALL`.
+INFEASIBLE_PROGRESS = 0.01
+
+
+@dataclass(frozen=True)
+class Origin:
+    """The objective and the size of the start, against which divergence is measured."""
+
+    f: float
+    x_scale: float
+
+
+def diverging(origin: Origin, pt: Point, maxcv: float, tol: float) -> bool:
+    """Whether ``pt`` is feasible and both its objective and its size have run away from the start by
+    :data:`DIVERGENCE_FACTOR` (an unbounded problem)."""
+    x_size = float(np.max(np.abs(pt.x), initial=0.0))
+    if maxcv > tol * max(1.0, x_size):
+        return False
+    return bool(pt.f < origin.f - DIVERGENCE_FACTOR * max(1.0, abs(origin.f))
+                and x_size > DIVERGENCE_FACTOR * origin.x_scale)
+
+
+def infeasibility_stalled(least_trace: list[float], elastic_run: int, tol: float) -> bool:
+    """Whether the last :data:`INFEASIBLE_STALL` iterations were all elastic and the least violation reached, still
+    above ``tol``, fell by less than :data:`INFEASIBLE_PROGRESS` over them."""
+    if elastic_run < INFEASIBLE_STALL or least_trace[-1] <= tol:
+        return False
+    return least_trace[-1] > (1.0 - INFEASIBLE_PROGRESS) * least_trace[-1 - INFEASIBLE_STALL]
 
 
 def _penalties(problem: Problem, st: State, qp: QPStep) -> Array:

@@ -363,6 +363,8 @@ def _broken(monkeypatch, names, mode):
         if solver in names:
             if mode == "raise":
                 raise RuntimeError(f"{solver} is down")
+            if mode == "our-bug":
+                raise TypeError("a bug on our side")
             if mode == "none":
                 return None
             if mode == "not-a-solution":
@@ -373,6 +375,12 @@ def _broken(monkeypatch, names, mode):
         return real(problem, solver=solver, **kwargs)
 
     monkeypatch.setattr(sqp.subproblem.qpsolvers, "solve_problem", fake)
+
+
+def test_a_bug_of_ours_around_a_backend_is_not_reported_as_a_failed_qp(monkeypatch):
+    _broken(monkeypatch, ["daqp"], "our-bug")
+    with pytest.raises(TypeError, match="a bug on our side"):
+        sqp.minimize(f, [0.0, 0.0], jac=g, constraints=[DISC], qp_solver="daqp")
 
 
 @pytest.mark.parametrize("mode", ["raise", "none", "not-a-solution", "wrong-size", "nan"])

@@ -370,6 +370,8 @@ def _broken(monkeypatch, names, mode):
             if mode == "not-a-solution":
                 return "garbage"
             sol = real(problem, solver=solver, **kwargs)
+            if sol.x is None:  # the backend found nothing itself: nothing to corrupt
+                return sol
             sol.x = np.full(sol.x.size + 1, 7.0) if mode == "wrong-size" else sol.x * np.nan
             return sol
         return real(problem, solver=solver, **kwargs)

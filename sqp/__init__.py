@@ -10,11 +10,10 @@ True
 from sqp.backends import installed_solvers
 from sqp.hessian import DENSE_LIMIT
 from sqp.options import Options
-from sqp.problem import StartPointWarning
 from sqp.result import IterationRecord, Result, Status
 from sqp.solver import minimize
 
 __all__ = [
-    "DENSE_LIMIT", "IterationRecord", "Options", "Result", "StartPointWarning", "Status", "installed_solvers",
+    "DENSE_LIMIT", "IterationRecord", "Options", "Result", "Status", "installed_solvers",
     "minimize",
 ]

@@ -7,7 +7,6 @@ to catch wrong shapes early; it also records the structure the QP backend choice
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
@@ -17,12 +16,10 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.optimize import Bounds, LinearConstraint, NonlinearConstraint
 
-from sqp.problem import NonlinearBlock, Problem, Rows, StartPointWarning, call_user, check_jacobian_shape
+from sqp.derivatives import FD_METHODS, FiniteDifferences
+from sqp.problem import NonlinearBlock, Problem, Rows, call_user, check_jacobian_shape
 
 Array = NDArray[np.float64]
-
-#: A start this close to a bound (relative to ``max(1, |bound|)``) is rounding, and is clipped without a warning.
-START_ROUNDING = 1e-12
 
 #: ``where`` of the evaluations made while the input is checked.
 AT_START = "iteration 0 (the start point)"
@@ -37,41 +34,58 @@ def _as_vector(value: Any, m: int, name: str) -> Array:
 
 
 def _check_x0(x0: Any) -> Array:
+    """``x0`` as a float vector; a scalar is one variable (as in scipy)."""
     try:
-        x = np.array(x0, dtype=float)
+        x = np.atleast_1d(np.array(x0, dtype=float))
     except (TypeError, ValueError) as exc:
         raise TypeError(f"x0 must be a 1-D array of numbers; got {type(x0).__name__}.") from exc
     if x.ndim != 1 or x.size == 0:
-        raise ValueError(f"x0 has shape {x.shape}; expected a non-empty 1-D array (n,). Pass one value per variable.")
+        raise ValueError(f"x0 has shape {x.shape}; expected a scalar or a non-empty 1-D array (n,). Pass one value "
+                         "per variable.")
     if not np.all(np.isfinite(x)):
         raise ValueError(f"x0 has non-finite entries at indices {np.flatnonzero(~np.isfinite(x)).tolist()}; "
                          "start from finite values.")
     return x
 
 
+def _broadcast_side(value: Any, n: int, name: str) -> Array:
+    """One side of the bounds broadcast to ``(n,)`` as scipy does (a scalar or a 1-element array for every
+    variable); ``None`` entries of a pair sequence are already infinities here."""
+    arr = np.asarray(value, dtype=float)
+    try:
+        return np.array(np.broadcast_to(arr, (n,)), dtype=float)
+    except ValueError:
+        raise ValueError(f"{name} has shape {arr.shape}; expected ({n},), a 1-element array or a scalar.") from None
+
+
 def _check_bounds(bounds: Any, n: int) -> tuple[Array, Array]:
+    """Lower and upper bounds of shape ``(n,)`` from ``Bounds`` or ``(lo, hi)`` pairs, broadcast as scipy does (a
+    ``Bounds(0, np.inf)`` or a single pair applies to every variable)."""
     if bounds is None:
         return np.full(n, -np.inf), np.full(n, np.inf)
     if isinstance(bounds, Bounds):
-        lo = _as_vector(bounds.lb, n, "bounds.lb")
-        hi = _as_vector(bounds.ub, n, "bounds.ub")
+        lo = _broadcast_side(bounds.lb, n, "bounds.lb")
+        hi = _broadcast_side(bounds.ub, n, "bounds.ub")
     else:
         try:
             pairs = list(bounds)
         except TypeError:
             raise TypeError("bounds must be scipy.optimize.Bounds or a sequence of (lo, hi) pairs.") from None
-        if len(pairs) != n:
+        if len(pairs) == 0:
+            return np.full(n, -np.inf), np.full(n, np.inf)
+        if len(pairs) not in (1, n):
             raise ValueError(f"bounds has {len(pairs)} pairs; expected {n} (one (lo, hi) per variable, "
-                             "None for an unbounded side).")
-        lo = np.empty(n)
-        hi = np.empty(n)
+                             "None for an unbounded side) or one pair for every variable.")
+        lo = np.empty(len(pairs))
+        hi = np.empty(len(pairs))
         for i, pair in enumerate(pairs):
             try:
                 a, b = pair
+                lo[i] = -np.inf if a is None else float(a)
+                hi[i] = np.inf if b is None else float(b)
             except (TypeError, ValueError):
-                raise ValueError(f"bounds[{i}] = {pair!r} is not a (lo, hi) pair.") from None
-            lo[i] = -np.inf if a is None else float(a)
-            hi[i] = np.inf if b is None else float(b)
+                raise ValueError(f"bounds[{i}] = {pair!r} is not a (lo, hi) pair of numbers or None.") from None
+        lo, hi = _broadcast_side(lo, n, "bounds (lower sides)"), _broadcast_side(hi, n, "bounds (upper sides)")
     if np.any(np.isnan(lo)) or np.any(np.isnan(hi)):
         raise ValueError("bounds contain NaN; use None or +-inf for an unbounded side.")
     bad = np.flatnonzero(lo > hi)
@@ -138,21 +152,6 @@ def _nonlinear_object_block(con: NonlinearConstraint, i: int, x0: Array) -> Nonl
     return NonlinearBlock(fun=con.fun, jac=jac, lb=lb, ub=ub, hess=hess, name=name, dict_style=False)
 
 
-def _project_start(x: Array, lower: Array, upper: Array) -> Array:
-    """``x0`` clipped into the bounds, with a :class:`StartPointWarning` when it was genuinely outside them (a start
-    within rounding of a bound, :data:`START_ROUNDING`, is clipped silently)."""
-    xs = np.clip(x, lower, upper)
-    outside = np.flatnonzero(np.abs(xs - x) > START_ROUNDING * np.maximum(1.0, np.abs(xs)))  # xs: the bound
-    if outside.size:
-        shown = ", ".join(f"x0[{i}] = {x[i]:.6g} not in [{lower[i]:.6g}, {upper[i]:.6g}]" for i in outside[:3])
-        more = f" and {outside.size - 3} more" if outside.size > 3 else ""
-        indices = outside[:5].tolist()
-        warnings.warn(f"x0 is outside the bounds at indices {indices}{'...' if outside.size > 5 else ''} ({shown}"
-                      f"{more}); it was projected onto the bounds (clipped) and the solve starts from there.",
-                      StartPointWarning, stacklevel=4)
-    return xs
-
-
 def build_problem(
     fun: Callable[..., Any],
     x0: Any,
@@ -161,8 +160,13 @@ def build_problem(
     constraints: Any,
     args: tuple[Any, ...] = (),
     hess: Any = None,
+    differences: FiniteDifferences | None = None,
 ) -> Problem:
     """Validate the user's input and stack it into a :class:`Problem` (raises before any solve).
+
+    ``x0`` is clipped into the bounds silently, as SLSQP does (``Problem.x0_clipped`` records where); ``jac=True``
+    means that ``fun`` returns ``(f, g)``; a string ``jac`` names a finite-difference scheme, whose settings are
+    ``differences`` (default: SLSQP's for that ``jac``).
 
     Raises
     ------
@@ -173,17 +177,21 @@ def build_problem(
         raise TypeError("fun must be callable: fun(x) -> float.")
     x = _check_x0(x0)
     n = x.size
-    f = (lambda z: fun(z, *args)) if args else fun
+    differences = FiniteDifferences.for_jac(jac) if differences is None else differences
     if jac is True:
-        raise ValueError("jac=True (fun returning (f, g)) is not supported; pass the gradient as a callable.")
-    if jac is None or (isinstance(jac, str) and jac in ("2-point", "3-point", "cs")):
+        both = ValueAndGradient(fun)
+        fun, jac = both.value, both.gradient
+    f = (lambda z: fun(z, *args)) if args else fun
+    if jac is None or jac is False or (isinstance(jac, str) and jac in FD_METHODS):
         grad = None
     elif callable(jac):
         grad = (lambda z: jac(z, *args)) if args else jac
     else:
-        raise TypeError(f"jac must be callable, None or '2-point'; got {jac!r}.")
+        raise TypeError(f"jac must be callable, True (fun returns (f, g)), None/False or one of {FD_METHODS}; "
+                        f"got {jac!r}.")
     lower, upper = _check_bounds(bounds, n)
-    xs = _project_start(x, lower, upper)
+    xs = np.clip(x, lower, upper)
+    clipped = np.flatnonzero(xs != x)
 
     if isinstance(constraints, dict | LinearConstraint | NonlinearConstraint):
         constraints = (constraints,)
@@ -251,9 +259,37 @@ def build_problem(
         kinds=tuple(kinds),
         linear_sizes=tuple(a.shape[0] for a in lin_A),
         hess=hess_f,
+        differences=differences,
+        x0_clipped=clipped,
     )
     sparse_rows = _check_shapes(problem, xs)
     return replace(problem, sparse_jacobians=sparse_rows and all(sp.issparse(a) for a in lin_A))
+
+
+class ValueAndGradient:
+    """``fun`` returning ``(f, g)`` (``jac=True``) as a value and a gradient function, one call per point: the
+    gradient at the point last evaluated is the one that call returned."""
+
+    def __init__(self, fun: Callable[..., Any]) -> None:
+        self.fun = fun
+        self.x: Array | None = None
+        self.g: Array | None = None
+
+    def value(self, x: Array, *args: Any) -> Any:
+        out = self.fun(x, *args)
+        try:
+            f, g = out
+        except (TypeError, ValueError):
+            raise TypeError("jac=True means that fun returns a pair (f, g), the value and the gradient; it returned "
+                            f"{type(out).__name__}.") from None
+        self.x, self.g = np.array(x, dtype=float), np.asarray(g, dtype=float)
+        return f
+
+    def gradient(self, x: Array, *args: Any) -> Array:
+        if self.x is None or self.g is None or not np.array_equal(x, self.x):
+            self.value(x, *args)
+        assert self.g is not None
+        return self.g
 
 
 def _check_shapes(problem: Problem, x: Array) -> bool:

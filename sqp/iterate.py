@@ -9,7 +9,6 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from sqp.derivatives import forward_difference
 from sqp.hessian import DENSE_LIMIT
 from sqp.problem import NonlinearBlock, Problem, call_user, check_jacobian_shape
 from sqp.subproblem import QPStep
@@ -84,10 +83,23 @@ class Evaluator:
                              "every point (a scalar or a 1-D array).")
         return np.atleast_1d(val)
 
+    def _f_raw(self, x: Array) -> Any:
+        """The objective as a finite-difference scheme sees it (complex for ``'cs'``), counted in ``nfev``."""
+        self.nfev += 1
+        return np.asarray(call_user("fun", self.problem.fun, x, self.where)).reshape(-1)[0]
+
+    def _c_raw(self, block: NonlinearBlock, x: Array) -> Any:
+        """A constraint's values as a finite-difference scheme sees them (complex for ``'cs'``)."""
+        return np.atleast_1d(np.asarray(call_user(block.part("fun"), block.fun, x, self.where))).ravel()
+
     def _jac(self, block: NonlinearBlock, x: Array) -> Any:
         p = self.problem
         if block.jac is None:
-            return forward_difference(lambda z: self._c(block, z), x, p.lower, p.upper)
+            J = p.differences.jacobian(lambda z: self._c_raw(block, z), x, p.lower, p.upper)
+            if J.shape != (block.size, x.size):
+                raise ValueError(f"{block.part('fun')} returned {J.shape[0]} value(s) at {self.where}; it returned "
+                                 f"{block.size} at x0.")
+            return J
         return check_jacobian_shape(block, call_user(block.part("jac"), block.jac, x, self.where), x.size,
                                     self.where)
 
@@ -105,7 +117,7 @@ class Evaluator:
         x = pt.x
         self.njev += 1
         if p.grad is None:
-            g = forward_difference(lambda z: np.array([self._f(z)]), x, p.lower, p.upper, f0=np.array([pt.f]))[0]
+            g = p.differences.jacobian(self._f_raw, x, p.lower, p.upper, f0=pt.f)[0]
         else:
             g = np.asarray(call_user("jac", p.grad, x, self.where), dtype=float)
             if g.shape != (x.size,):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -12,9 +13,15 @@ from sqp.problem import Problem, Rows
 Array = NDArray[np.float64]
 
 
+#: The residuals a :class:`KKTResiduals` holds, as its mapping keys (``res.kkt["stationarity"]``).
+KKT_KEYS = ("stationarity", "feasibility", "complementarity")
+
+
 @dataclass(frozen=True)
-class KKTResiduals:
-    """Residuals of the first-order conditions at ``(x, lam, z)``.
+class KKTResiduals(Mapping[str, float]):
+    """Residuals of the first-order conditions at ``(x, lam, z)``: a typed value that also reads as the mapping
+    ``{"stationarity": ..., "feasibility": ..., "complementarity": ...}`` (``res.kkt["stationarity"]``,
+    ``dict(res.kkt)``).
 
     Attributes
     ----------
@@ -46,6 +53,22 @@ class KKTResiduals:
     @property
     def worst(self) -> float:
         return max(self.stationarity, self.feasibility, self.complementarity)
+
+    def __getitem__(self, key: str) -> float:
+        if key not in KKT_KEYS:
+            raise KeyError(key)
+        return float(getattr(self, key))
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(KKT_KEYS)
+
+    def __len__(self) -> int:
+        return len(KKT_KEYS)
+
+    @classmethod
+    def unknown(cls) -> KKTResiduals:
+        """Residuals of a solve that ended before the derivatives at its point were evaluated (all NaN)."""
+        return cls(stationarity=np.nan, feasibility=np.nan, complementarity=np.nan)
 
 
 def lagrangian_gradient(g: Array, J: Array, lam_nl: Array, A: Array, lam_lin: Array, z: Array) -> Array:

@@ -8,7 +8,7 @@ multipliers back to the user's blocks at the end (:meth:`Problem.split_multiplie
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
 
@@ -16,11 +16,9 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from sqp.derivatives import FiniteDifferences
+
 Array = NDArray[np.float64]
-
-
-class StartPointWarning(UserWarning):
-    """``x0`` lies outside the bounds; the solve starts from its projection onto them (``clip(x0, lb, ub)``)."""
 
 
 def format_point(x: Array) -> str:
@@ -117,6 +115,10 @@ class Problem:
         Nonlinear user constraints in the order given; their rows stack into ``nonlinear``.
     kinds : tuple of str
         For every user constraint, ``"linear"`` or ``"nonlinear"``, in the order given.
+    differences : FiniteDifferences
+        How the derivatives the user did not give are approximated (SLSQP's rule).
+    x0_clipped : ndarray of int
+        Indices where the user's ``x0`` lay outside the bounds and was clipped onto them (as SLSQP does, silently).
     sparse_jacobians : bool
         Whether every constraint Jacobian is a scipy.sparse matrix: each nonlinear constraint's ``jac`` at ``x0`` (a
         finite-difference one is dense) and each ``LinearConstraint.A``. True without constraints. Read once, by
@@ -136,6 +138,8 @@ class Problem:
     linear_sizes: tuple[int, ...]
     hess: Callable[[Array], Any] | None = None
     sparse_jacobians: bool = True
+    differences: FiniteDifferences = FiniteDifferences()
+    x0_clipped: NDArray[np.intp] = field(default_factory=lambda: np.zeros(0, dtype=np.intp))
 
     @property
     def n(self) -> int:
@@ -164,6 +168,66 @@ class Problem:
             raise ValueError(f"multipliers0 holds {out.size} nonlinear multipliers; expected "
                              f"{self.nonlinear.lb.size} finite values.")
         return out
+
+    def constraint_sides(self) -> list[tuple[Array, Array]]:
+        """``(lb, ub)`` of every user constraint, in the order given (an ``ineq`` dict is ``(0, inf)``)."""
+        out: list[tuple[Array, Array]] = []
+        blocks = iter(self.blocks)
+        start = 0
+        sizes = iter(self.linear_sizes)
+        for kind in self.kinds:
+            if kind == "linear":
+                m = next(sizes)
+                out.append((self.linear.lb[start : start + m], self.linear.ub[start : start + m]))
+                start += m
+            else:
+                block = next(blocks)
+                out.append((block.lb, block.ub))
+        return out
+
+    @cached_property
+    def slsqp_rows(self) -> tuple[NDArray[np.intp], Array, NDArray[np.bool_]]:
+        """Where SLSQP's multiplier array comes from: ``res.multipliers = sign * flat[index]`` (clipped at 0 on the
+        rows of ``two_sided``), with ``flat`` the per-constraint multipliers concatenated in the order given.
+
+        scipy's SLSQP turns each ``NonlinearConstraint``/``LinearConstraint`` into an equality dict (its ``lb == ub``
+        rows, in its place) and an inequality dict (rows with a finite lower side as ``fun - lb >= 0``, then rows
+        with a finite upper side as ``ub - fun >= 0``; in its place when there are no equality rows, else appended
+        after every constraint); rows unbounded on both sides are dropped. It then lists every equality row, then
+        every inequality row, and its multipliers are ``>= 0`` on ``g(x) >= 0`` with ``grad f = sum mu grad g``:
+        ours on a lower side, and ours negated on an upper side; a row with both sides finite appears twice, its
+        multiplier on the side its sign belongs to and 0 on the other.
+        """
+        offsets = np.cumsum([0] + [lb.size for lb, _ in self.constraint_sides()])
+        placed: list[tuple[str, Array, Array, NDArray[np.bool_]]] = []
+        appended: list[tuple[str, Array, Array, NDArray[np.bool_]]] = []
+        for k, (lb, ub) in enumerate(self.constraint_sides()):
+            eq = lb == ub
+            low = np.flatnonzero(~eq & np.isfinite(lb))
+            up = np.flatnonzero(~eq & np.isfinite(ub))
+            both = np.isfinite(lb) & np.isfinite(ub) & ~eq
+            ineq = ("ineq", offsets[k] + np.concatenate([low, up]),
+                    np.concatenate([np.ones(low.size), -np.ones(up.size)]), np.concatenate([both[low], both[up]]))
+            if np.any(eq):
+                placed.append(("eq", offsets[k] + np.flatnonzero(eq), np.ones(int(np.sum(eq))),
+                               np.zeros(int(np.sum(eq)), dtype=bool)))
+                if ineq[1].size:
+                    appended.append(ineq)
+            elif ineq[1].size:
+                placed.append(ineq)
+        order = placed + appended
+        parts = [p for p in order if p[0] == "eq"] + [p for p in order if p[0] == "ineq"]
+        if not parts:
+            return np.zeros(0, dtype=np.intp), np.zeros(0), np.zeros(0, dtype=bool)
+        return (np.concatenate([p[1] for p in parts]).astype(np.intp), np.concatenate([p[2] for p in parts]),
+                np.concatenate([p[3] for p in parts]))
+
+    def slsqp_multipliers(self, per_constraint: list[Array]) -> Array:
+        """The multipliers as scipy's SLSQP returns them (:attr:`slsqp_rows`) from one array per constraint."""
+        index, sign, two_sided = self.slsqp_rows
+        flat = np.concatenate(per_constraint) if per_constraint else np.zeros(0)
+        out = sign * flat[index]
+        return np.where(two_sided, np.maximum(out, 0.0), out)
 
     def split_multipliers(self, lam_lin: Array, lam_nl: Array) -> list[Array]:
         """The stacked row multipliers as one array per user constraint, in the order given."""

@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from enum import Enum
+from enum import IntEnum
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import OptimizeResult
 
-from sqp.kkt import kkt_residuals, max_violation
+from sqp.kkt import KKTResiduals, kkt_residuals, max_violation
 
 if TYPE_CHECKING:
     from sqp.iterate import Derivatives, Evaluator, Point
@@ -21,39 +21,73 @@ if TYPE_CHECKING:
 Array = NDArray[np.float64]
 
 
-class Status(Enum):
-    """Why a solve ended. ``code`` is ``Result.status``; ``value`` is the message."""
+class Status(IntEnum):
+    """Why a solve ended: an ``int`` (``Result.status``) that carries its message.
+
+    The numbering never contradicts scipy's SLSQP (``scipy.optimize.minimize(method="SLSQP")``): a code that SLSQP
+    can return means the same here (0 success, 4 incompatible constraints, 8 no descent in the line search, 9
+    iteration limit, and 99, which ``scipy.optimize.minimize`` sets when the callback raises ``StopIteration``). The
+    outcomes SLSQP has no code for use 10 and above. SLSQP's 2, 3, 5, 6 and 7 (failures inside its own LSQ
+    subproblem) have no counterpart here and are never returned.
+
+    ======  =================  ====================================================================
+    code    name               SLSQP's meaning of the code
+    ======  =================  ====================================================================
+    0       SUCCESS            "Optimization terminated successfully"
+    4       INFEASIBLE         "Inequality constraints incompatible"
+    8       LINE_SEARCH        "Positive directional derivative for linesearch"
+    9       MAX_ITER           "Iteration limit reached"
+    10      ACCEPTABLE         (none: a success at a looser level, ``success`` is True)
+    11      QP_FAILED          (none)
+    12      NONFINITE          (none)
+    13      SMALL_STEP         (none)
+    14      LINEAR_INFEASIBLE  (none)
+    15      UNBOUNDED          (none)
+    99      CALLBACK           "`callback` raised `StopIteration`." (set by scipy's ``minimize``)
+    ======  =================  ====================================================================
+    """
+
+    message: str
+
+    def __new__(cls, code: int, message: str) -> Status:
+        member = int.__new__(cls, code)
+        member._value_ = code
+        member.message = message
+        return member
 
     SUCCESS = (0, "Optimization terminated successfully: KKT residuals are below tol.")
-    MAX_ITER = (1, "The iteration limit was reached before the KKT residuals fell below tol; increase max_iter.")
-    LINE_SEARCH = (2, "The line search could not reduce the merit function; the derivatives may be wrong or the "
-                      "problem badly scaled.")
-    INFEASIBLE = (3, "The constraints could not be satisfied: the solver converged to a point that locally "
+    INFEASIBLE = (4, "The constraints could not be satisfied: the solver converged to a point that locally "
                      "minimises the constraint violation but is infeasible.")
-    QP_FAILED = (4, "The QP subproblem could not be solved, even in its elastic form; try another qp_solver.")
-    NONFINITE = (5, "A user function (the objective, a constraint or a derivative) returned NaN or inf, at the start "
-                    "or at every trial point down to the shortest step.")
-    CALLBACK = (6, "Stopped by the callback (StopIteration).")
-    SMALL_STEP = (7, "The step became too small to make progress before the KKT residuals fell below tol.")
-    LINEAR_INFEASIBLE = (8, "The linear constraints and bounds have no common point.")
-    ACCEPTABLE = (9, "Converged to an acceptable level: the point is feasible to tol and its scaled KKT residuals are "
-                     "below 1e-6, but rounding errors prevent further progress towards tol.")
+    LINE_SEARCH = (8, "The line search could not reduce the merit function; the derivatives may be wrong or the "
+                      "problem badly scaled.")
+    MAX_ITER = (9, "The iteration limit was reached before the KKT residuals fell below tol; increase max_iter.")
+    ACCEPTABLE = (10, "Converged to an acceptable level: the point is feasible to tol and its scaled KKT residuals are "
+                      "below 1e-6, but rounding errors prevent further progress towards tol.")
+    QP_FAILED = (11, "The QP subproblem could not be solved, even in its elastic form; try another qp_solver.")
+    NONFINITE = (12, "A user function (the objective, a constraint or a derivative) returned NaN or inf, at the start "
+                     "or at every trial point down to the shortest step.")
+    SMALL_STEP = (13, "The step became too small to make progress before the KKT residuals fell below tol.")
+    LINEAR_INFEASIBLE = (14, "The linear constraints and bounds have no common point.")
+    UNBOUNDED = (15, "The problem appears unbounded below: the objective decreased without bound at feasible points.")
+    CALLBACK = (99, "Stopped by the callback (StopIteration).")
 
     @property
     def code(self) -> int:
-        return self.value[0]
+        """The number (``Result.status``)."""
+        return int(self)
 
     @property
-    def message(self) -> str:
-        return self.value[1]
+    def success(self) -> bool:
+        """Whether the status counts as a success (SUCCESS and ACCEPTABLE)."""
+        return self in (Status.SUCCESS, Status.ACCEPTABLE)
 
     @classmethod
     def from_code(cls, code: int) -> Status:
         """The status whose :attr:`code` is ``code`` (``Result.status``); ValueError for an unknown code."""
-        for status in cls:
-            if status.code == code:
-                return status
-        raise ValueError(f"no sqp.Status has code {code!r}; codes are {[s.code for s in cls]}.")
+        try:
+            return cls(int(code))
+        except ValueError:
+            raise ValueError(f"no sqp.Status has code {code!r}; codes are {[s.code for s in cls]}.") from None
 
 
 @dataclass(frozen=True)
@@ -86,10 +120,15 @@ class Result(OptimizeResult):
         ``lam < 0`` when the upper side is.
     bound_multipliers : ndarray (n,)
         Positive at an active lower bound, negative at an active upper bound.
-    multipliers : dict
-        The same by block: ``"eq"`` (equality rows), ``"ineq"`` (inequality rows), ``"bounds"``.
-    kkt : dict
-        ``stationarity``, ``feasibility``, ``complementarity`` at ``x``.
+    multipliers : ndarray
+        As scipy's SLSQP returns them: equality rows first, then inequality rows, in SLSQP's order, ``>= 0`` on
+        every inequality written ``g(x) >= 0`` (an upper side is ``ub - c(x) >= 0``); no bound multipliers
+        (:attr:`sqp.problem.Problem.slsqp_rows`).
+    x0_clipped : ndarray of int
+        Indices where ``x0`` lay outside the bounds and was clipped onto them.
+    kkt : KKTResiduals
+        ``stationarity``, ``feasibility``, ``complementarity`` at ``x``, as attributes and as a read-only mapping
+        (``res.kkt["stationarity"]``).
     history : list of IterationRecord
         One record per iteration.
     hess : ndarray
@@ -128,27 +167,24 @@ def build_result(
     g = der.g if der is not None else np.full(n, np.nan)
     if der is not None:
         kkt = kkt_residuals(problem, xx, g, c, der.J, r, lam_nl, lam_lin, z)
-        kkt_dict = {"stationarity": kkt.stationarity, "feasibility": kkt.feasibility,
-                    "complementarity": kkt.complementarity}
     else:
-        kkt_dict = {"stationarity": np.nan, "feasibility": np.nan, "complementarity": np.nan}
+        kkt = KKTResiduals.unknown()
     maxcv = max_violation(problem, xx, c, np.asarray(r).ravel()) if np.all(np.isfinite(c)) else np.inf
-    eq_rows = np.concatenate([lam_nl[problem.nonlinear.eq], lam_lin[problem.linear.eq]])
-    ineq_nl = np.setdiff1d(np.arange(lam_nl.size), problem.nonlinear.eq)
-    ineq_lin = np.setdiff1d(np.arange(lam_lin.size), problem.linear.eq)
+    per_constraint = problem.split_multipliers(lam_lin, lam_nl)
     message = status.message
     if status is Status.MAX_ITER:
         message = message.replace("max_iter", f"max_iter (now {nit})")
     if detail:
         message = f"{message} {detail}"
     res = Result(
-        x=xx.copy(), fun=float(f), jac=g, success=status in (Status.SUCCESS, Status.ACCEPTABLE),
-        status=status.code, message=message,
+        x=xx.copy(), fun=float(f), jac=g, success=status.success,
+        status=status, message=message,
         nit=nit, nfev=ev.nfev, njev=ev.njev, maxcv=float(maxcv),
-        constraint_multipliers=problem.split_multipliers(lam_lin, lam_nl),
+        constraint_multipliers=per_constraint,
         bound_multipliers=z.copy(),
-        multipliers={"eq": eq_rows, "ineq": np.concatenate([lam_nl[ineq_nl], lam_lin[ineq_lin]]), "bounds": z.copy()},
-        nhev=ev.nhev, kkt=kkt_dict, history=history, hess=B, status_name=status.name,
+        multipliers=problem.slsqp_multipliers(per_constraint),
+        x0_clipped=problem.x0_clipped.copy(),
+        nhev=ev.nhev, kkt=kkt, history=history, hess=B, status_name=status.name,
         solve_time=time.perf_counter() - t_start,
     )
     return res

@@ -11,7 +11,9 @@ at the iterate, :mod:`sqp.subproblem` solving it), :mod:`sqp.kkt`, :mod:`sqp.mer
 from __future__ import annotations
 
 import time
+import warnings
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -37,6 +39,7 @@ from sqp.options import Options
 from sqp.problem import Problem, format_point
 from sqp.report import HEADER, format_row
 from sqp.result import IterationRecord, Result, Status, build_result
+from sqp.scipy_call import adapt_callback, check_method, print_summary, read_settings
 from sqp.start import initial_hessian, start_point
 from sqp.step import qp_step
 from sqp.subproblem import QPStep
@@ -52,47 +55,74 @@ STALL_ITERATIONS = 3
 
 
 def minimize(
-    fun: Callable[..., float],
+    fun: Callable[..., Any],
     x0: Any,
-    jac: Callable[..., Array] | str | None = None,
+    args: Any = (),
+    method: str | None = None,
+    jac: Callable[..., Any] | str | bool | None = None,
+    hess: Callable[..., Any] | None = None,
+    hessp: Callable[..., Any] | None = None,
     bounds: Any = None,
     constraints: Any = (),
+    tol: float | None = None,
+    callback: Callable[..., Any] | None = None,
+    options: dict[str, Any] | None = None,
     *,
-    args: tuple[Any, ...] = (),
-    hess: Callable[..., Any] | None = None,
     hess0: Any = None,
     multipliers0: Any = None,
     qp_solver: str = "auto",
     qp_options: dict[str, Any] | None = None,
-    tol: float = 1e-8,
-    max_iter: int = 500,
-    callback: Callable[[OptimizeResult], Any] | None = None,
+    max_iter: int | None = None,
     verbose: bool = False,
 ) -> Result:
-    """Minimise ``fun(x)`` subject to bounds and constraints by SQP, as ``scipy.optimize.minimize`` does.
+    """Minimise ``fun(x, *args)`` subject to bounds and constraints by SQP; scipy's ``minimize(method="SLSQP")`` call.
+
+    The positional and keyword arguments up to ``options`` are scipy's, in scipy's order; the engine's own settings
+    follow, keyword-only.
 
     Parameters
     ----------
     fun : callable
-        Objective ``fun(x, *args) -> float``.
-    x0 : array_like, shape (n,)
-        Starting point. A start outside the bounds is projected onto them (clipped) with a
-        :class:`~sqp.StartPointWarning` naming the variables (a start within rounding, ``1e-12 * max(1, |bound|)``,
-        of a bound is clipped silently); a start violating the linear constraints is then projected onto them.
-    jac : callable, '2-point' or None
-        Gradient ``jac(x, *args) -> (n,)``; None or '2-point' for forward differences that stay inside the bounds.
-    bounds : scipy.optimize.Bounds or sequence of (lo, hi), optional
-        Variable bounds; ``None`` for an unbounded side.
-    constraints : dict, NonlinearConstraint, LinearConstraint or a sequence of them
-        SLSQP dicts ``{"type": "eq"|"ineq", "fun", "jac"}`` (``ineq`` means ``fun(x) >= 0``) and scipy constraint
-        objects (rows with ``lb == ub`` are equalities). Linear constraints and bounds are kept exactly in every QP.
+        Objective ``fun(x, *args) -> float`` (``(f, g)`` with ``jac=True``).
+    x0 : array_like, shape (n,) or scalar
+        Starting point. A start outside the bounds is clipped onto them silently, as SLSQP does
+        (``res.x0_clipped`` lists the indices; ``disp`` prints them); a start violating the linear constraints is
+        then projected onto them.
     args : tuple
-        Extra arguments of ``fun``, ``jac`` and ``hess``.
+        Extra arguments of ``fun``, ``jac`` and ``hess`` (a non-tuple is one argument, as in scipy).
+    method : None or "SLSQP"
+        Accepted for scipy's call (any case); any other method is a ValueError.
+    jac : callable, True, False, None, '2-point', '3-point' or 'cs'
+        Gradient ``jac(x, *args) -> (n,)``; ``True``: ``fun`` returns ``(f, g)``; None/False: forward differences
+        with the absolute step ``options["eps"]``; a scheme name: that scheme with the relative step
+        ``options["finite_diff_rel_step"]``. Difference points stay inside the bounds. Constraints without a
+        ``jac`` are differenced the same way.
     hess : callable, optional
         Exact objective Hessian ``hess(x, *args) -> (n, n)`` (array or sparse matrix). With it, every nonlinear
         constraint must carry its Hessian (``NonlinearConstraint.hess`` or a dict's ``"hess"``: ``hess(x, v) =
         sum_i v_i grad^2 c_i(x)``) and the model Hessian is the exact Lagrangian Hessian, shifted by a multiple of
-        the identity where needed to make it positive definite, instead of damped BFGS.
+        the identity where needed to make it positive definite, instead of damped BFGS. (SLSQP ignores ``hess``.)
+    hessp : callable, optional
+        Not used (a RuntimeWarning says so, as scipy's SLSQP does).
+    bounds : scipy.optimize.Bounds or sequence of (lo, hi), optional
+        Variable bounds; ``None`` for an unbounded side; scalars and 1-element arrays broadcast to every variable.
+    constraints : dict, NonlinearConstraint, LinearConstraint or a sequence of them
+        SLSQP dicts ``{"type": "eq"|"ineq", "fun", "jac", "args"}`` (``ineq`` means ``fun(x) >= 0``) and scipy
+        constraint objects (rows with ``lb == ub`` are equalities). Linear constraints and bounds are kept exactly
+        in every QP.
+    tol : float, optional
+        Tolerance on the scaled KKT residuals and on the violation; sets ``options["ftol"]`` when that is absent,
+        as in scipy. Without either: 1e-8 with a gradient ``jac``, 1e-6 (SLSQP's ``ftol`` default) with finite
+        differences, whose error is of order 1e-8.
+    callback : callable, optional
+        ``callback(xk)``, or ``callback(intermediate_result)`` when that is its only parameter's name (scipy's rule:
+        an ``OptimizeResult`` with ``x, fun, nit, nfev, maxcv, kkt``), after each iteration; raising
+        ``StopIteration`` stops the solve with ``success=False`` and status CALLBACK (99, as scipy).
+    options : dict, optional
+        SLSQP's options: ``maxiter`` (default 500 here, 100 in SLSQP), ``ftol`` (the KKT tolerance), ``disp`` (print
+        SLSQP's summary at the end), ``iprint`` (>= 2 with ``disp``: also the iteration table), ``eps``,
+        ``finite_diff_rel_step``, ``workers`` (finite differences). Any other key warns (``OptimizeWarning``) and is
+        ignored.
     hess0 : array_like, shape (n, n), optional
         Initial Lagrangian Hessian approximation (e.g. the objective's known Hessian); symmetric, positive
         semidefinite (shifted to positive definite if needed). Default: identity, rescaled after the first step.
@@ -109,26 +139,20 @@ def minimize(
         is used exactly as given. The backend used is ``res.qp_solver``.
     qp_options : dict, optional
         Backend settings merged over the engine's accurate defaults.
-    tol : float
-        Tolerance on the scaled KKT residuals and on the absolute constraint violation.
-    max_iter : int
-        Maximum number of iterations.
-    callback : callable, optional
-        ``callback(intermediate_result)`` after each iteration; raise ``StopIteration`` to stop (status CALLBACK).
+    max_iter : int, optional
+        Maximum number of iterations (the same as ``options["maxiter"]``; give one of them).
     verbose : bool
-        Print an iteration table.
+        Print the backend used and an iteration table.
 
     Returns
     -------
     Result
-        An ``OptimizeResult`` with ``x, fun, jac, success, status, message, nit, nfev, njev, maxcv`` plus
-        ``constraint_multipliers``, ``bound_multipliers``, ``multipliers``, ``kkt``, ``history``, ``hess`` and
-        ``qp_solver`` (the backend used).
-        ``success`` is True only for SUCCESS and ACCEPTABLE; every other :class:`~sqp.Status` says why the solve
-        ended: NaN or inf that persists down to the shortest trial step, or at the start, is NONFINITE (the message
-        names the function and the iteration); a locally infeasible problem is INFEASIBLE (the message gives the
-        least violation reached), LINEAR_INFEASIBLE when the linear constraints and bounds alone are inconsistent;
-        QP_FAILED names the QP backends tried (``qp_solver``, then the fallbacks quadprog and osqp).
+        An ``OptimizeResult`` with scipy's ``x, fun, jac, success, status, message, nit, nfev, njev`` and
+        ``multipliers`` (SLSQP's array: equality rows first, then inequality rows, in SLSQP's order and sign;
+        :meth:`sqp.problem.Problem.slsqp_rows`), plus ``maxcv``, ``constraint_multipliers`` (one array per
+        constraint), ``bound_multipliers``, ``kkt``, ``history``, ``hess``, ``qp_solver``, ``x0_clipped``.
+        ``status`` is a :class:`~sqp.Status` (an int whose codes agree with SLSQP's table); ``success`` is True
+        only for SUCCESS and ACCEPTABLE.
 
     Raises
     ------
@@ -142,12 +166,21 @@ def minimize(
 
     Warns
     -----
-    StartPointWarning
-        When ``x0`` lies outside the bounds (it is projected onto them).
+    OptimizeWarning
+        For an unknown key of ``options`` (ignored).
+    RuntimeWarning
+        When ``hessp`` is given (not used).
     """
-    options = Options(tol=tol, max_iter=max_iter, qp_solver=qp_solver, qp_options=dict(qp_options or {}),
-                      callback=callback, verbose=verbose)
-    problem = build_problem(fun, x0, jac, bounds, constraints, args, hess)
+    check_method(method)
+    if not isinstance(args, tuple):
+        args = (args,)
+    if hessp is not None:
+        warnings.warn("sqp.minimize does not use Hessian-vector product information (hessp); pass hess.",
+                      RuntimeWarning, stacklevel=2)
+    call = read_settings(jac, tol, options, max_iter, verbose)
+    options_ = Options(tol=call.tol, max_iter=call.max_iter, qp_solver=qp_solver, qp_options=dict(qp_options or {}),
+                       callback=adapt_callback(callback), verbose=call.table)
+    problem = build_problem(fun, x0, jac, bounds, constraints, args, hess, call.differences)
     if problem.hess is not None and hess0 is not None:  # exact Hessians replace it: check the shape only
         if np.shape(hess0) != (problem.n, problem.n):
             raise ValueError(f"hess0 has shape {np.shape(hess0)}; expected ({problem.n}, {problem.n}).")
@@ -155,7 +188,10 @@ def minimize(
     else:
         B0 = initial_hessian(hess0, problem.n)
     lam0 = None if multipliers0 is None else problem.stack_nonlinear_multipliers(multipliers0)
-    return run(problem, options, B0, lam0)
+    res = run(problem, options_, B0, lam0)
+    if call.disp:
+        print_summary(res)
+    return res
 
 
 #: A solve ends without a confirming QP when the last QP's multipliers pass the KKT test at the new point with
@@ -206,6 +242,9 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
     stalled = 0
     best: tuple[KKTResiduals, QPStep] | None = None
     least = (max_violation(problem, pt.x, pt.c, pt.r), pt.x)  # the least violation reached, and where
+    least_trace = [least[0]]  # the least violation after each iteration
+    elastic_run = 0  # consecutive iterations whose QP was elastic
+    origin = Origin(f=pt.f, x_scale=max(1.0, float(np.max(np.abs(pt.x)))))
     for nit in range(options.max_iter + 1):
         ev.nit = nit + 1  # evaluations from here to the acceptance of the next point belong to iteration nit + 1
         if exact:  # the exact Lagrangian Hessian at (x_k, lam_{k-1}), made positive definite
@@ -290,6 +329,16 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
         history.append(rec)
         if rec.maxcv < least[0]:
             least = (rec.maxcv, new_pt.x)
+        least_trace.append(least[0])
+        elastic_run = elastic_run + 1 if qp.elastic else 0
+        if diverging(origin, new_pt, rec.maxcv, options.tol):
+            status = Status.UNBOUNDED
+            detail = (f"At iteration {nit + 1} f = {new_pt.f:.3e} (from {origin.f:.3e}) at a feasible x with "
+                      f"||x||_inf = {np.max(np.abs(new_pt.x)):.3e}.")
+            break
+        if infeasibility_stalled(least_trace, elastic_run, options.tol):
+            status = Status.INFEASIBLE
+            break
         if options.verbose:
             print(format_row(rec))
         if options.callback is not None:
@@ -314,6 +363,48 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
         detail = f"Least violation reached: {least[0]:.2e} at x = {format_point(least[1])}."
     return build_result(problem, ev, st.pt, st.der, st.qp, status, history, t_start, B=st.B, nit=len(history),
                         detail=detail)
+
+
+#: Iterates diverge (status UNBOUNDED) at a feasible point whose objective fell below ``f(x0)`` by this factor of
+#: ``max(1, |f(x0)|)`` while ``||x||_inf`` grew beyond this factor of ``max(1, ||x0||_inf)``: ten orders of magnitude
+#: in both, far from any Hock–Schittkowski solve. (IPOPT's ``diverging_iterates_tol`` is an absolute 1e20 on x
+#: alone; on a linear objective the damped-BFGS steps grow geometrically, so 1e10 is reached in about a dozen
+#: iterations.)
+DIVERGENCE_FACTOR = 1e10
+
+#: Consecutive elastic iterations without a 1 % reduction of the least violation reached after which the solve
+#: ends INFEASIBLE: the elastic steps no longer reduce the violation, so the iterates circle a local minimiser of it
+#: (Fletcher & Leyffer's filter SQP and SNOPT's elastic mode stop on the same evidence).
+INFEASIBLE_STALL = 10
+
+#: The relative reduction of the least violation that counts as progress within :data:`INFEASIBLE_STALL`.
+INFEASIBLE_PROGRESS = 0.01
+
+
+@dataclass(frozen=True)
+class Origin:
+    """The objective and the size of the start, against which divergence is measured."""
+
+    f: float
+    x_scale: float
+
+
+def diverging(origin: Origin, pt: Point, maxcv: float, tol: float) -> bool:
+    """Whether ``pt`` is feasible and both its objective and its size have run away from the start by
+    :data:`DIVERGENCE_FACTOR` (an unbounded problem)."""
+    x_size = float(np.max(np.abs(pt.x), initial=0.0))
+    if maxcv > tol * max(1.0, x_size):
+        return False
+    return bool(pt.f < origin.f - DIVERGENCE_FACTOR * max(1.0, abs(origin.f))
+                and x_size > DIVERGENCE_FACTOR * origin.x_scale)
+
+
+def infeasibility_stalled(least_trace: list[float], elastic_run: int, tol: float) -> bool:
+    """Whether the last :data:`INFEASIBLE_STALL` iterations were all elastic and the least violation reached, still
+    above ``tol``, fell by less than :data:`INFEASIBLE_PROGRESS` over them."""
+    if elastic_run < INFEASIBLE_STALL or least_trace[-1] <= tol:
+        return False
+    return least_trace[-1] > (1.0 - INFEASIBLE_PROGRESS) * least_trace[-1 - INFEASIBLE_STALL]
 
 
 def _penalties(problem: Problem, st: State, qp: QPStep) -> Array:

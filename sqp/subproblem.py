@@ -78,6 +78,12 @@ class QPStep:
     status: str
 
 
+#: What a QP backend raises when it fails a subproblem (qpsolvers' own errors; quadprog's ValueError on an indefinite
+#: or inconsistent problem, numpy's LinAlgError, a C extension's RuntimeError, an overflow). Anything else, a
+#: TypeError or an AttributeError say, is a bug of this package and is not dressed up as "QP failed".
+BACKEND_ERRORS: tuple[type[Exception], ...] = (qpsolvers.QPError, ValueError, ArithmeticError, RuntimeError)
+
+
 def linearise(J: Array, c: Array, rows: Rows) -> LinearisedRows:
     """Rows ``lb - c <= J d <= ub - c``."""
     return LinearisedRows(M=J, lo=rows.lb - c, hi=rows.ub - c, rows=rows)
@@ -159,7 +165,7 @@ def _solve(
                     warnings.simplefilter("ignore")
                     sol = qpsolvers.solve_problem(problem, solver=solver, initvals=initvals,
                                                   **{**options, **retry})
-            except Exception:  # a backend error is a failed subproblem, never a crash of the solve
+            except BACKEND_ERRORS:  # a backend's error is a failed subproblem; any other is our bug, and propagates
                 sol = None
             if not isinstance(sol, qpsolvers.Solution):
                 sol = None  # nothing usable came back
@@ -206,7 +212,7 @@ def _trusted(sol: qpsolvers.Solution | None, scale: float) -> bool:
             warnings.simplefilter("ignore")
             prim = sol.primal_residual()
             dual = sol.dual_residual()
-    except Exception:
+    except (ValueError, ArithmeticError):  # an answer of the wrong shape, or overflowing
         return False
     return bool(np.isfinite(prim) and np.isfinite(dual) and prim <= QP_RESIDUAL_TOL * scale
                 and dual <= QP_RESIDUAL_TOL * scale)

@@ -190,7 +190,7 @@ def kkt_violation(grad: Array, x: Array, blocks: list[tuple[Array, Array, Array,
 @settings(max_examples=EXAMPLES)
 @given(qp=convex_qps())
 def test_random_convex_qps_match_an_independent_qp_solver(qp, form):
-    res = sqp.minimize(qp.f, qp.x0, qp.grad, Bounds(qp.lo, qp.hi), qp.constraints(form))
+    res = sqp.minimize(qp.f, qp.x0, jac=qp.grad, bounds=Bounds(qp.lo, qp.hi), constraints=qp.constraints(form))
     note(f"sqp: {res.status_name}: {res.message}\nx = {res.x!r}, f = {res.fun!r}, nit = {res.nit}")
     assert res.success, res.message
     x_ref, solver = qp.reference()
@@ -223,7 +223,7 @@ def test_a_start_violating_a_row_by_less_than_the_qp_tolerance(qp_solver):
     # found by hypothesis: DAQP treats a row violated by less than its primal_tol = 1e-6 as satisfied, so its step was
     # d = 0 and the solve ended SMALL_STEP, infeasible by 1e-7; an answer that leaves the violation where it was now
     # goes to the next backend
-    res = sqp.minimize(lambda x: 0.5 * x @ x, [0.0, 0.0], lambda x: x, qp_solver=qp_solver,
+    res = sqp.minimize(lambda x: 0.5 * x @ x, [0.0, 0.0], jac=lambda x: x, qp_solver=qp_solver,
                        constraints=[{"type": "ineq", "fun": lambda x: np.array([-1e-7 - x[0]]),
                                      "jac": lambda x: np.array([[-1.0, 0.0]])}])
     assert res.success, res.message
@@ -239,7 +239,7 @@ def test_a_dict_form_qp_whose_end_game_is_stopped_by_rounding():
     qp = ConvexQP(P=P, q=np.array([0.0, 4.0, 0.0, 0.0, 0.0]), A=np.zeros((0, 5)), b=np.zeros(0),
                   G=np.eye(5)[:1], h=np.array([0.1]), lo=np.full(5, -np.inf), hi=np.full(5, np.inf),
                   x_f=np.zeros(5), x0=np.ones(5))
-    res = sqp.minimize(qp.f, qp.x0, qp.grad, Bounds(qp.lo, qp.hi), qp.constraints("nonlinear"))
+    res = sqp.minimize(qp.f, qp.x0, jac=qp.grad, bounds=Bounds(qp.lo, qp.hi), constraints=qp.constraints("nonlinear"))
     x_ref, _ = qp.reference()
     assert res.fun == pytest.approx(qp.f(x_ref), rel=1e-12)  # the right point either way
     assert res.success, res.message
@@ -330,7 +330,7 @@ def convex_nlps(draw: st.DrawFn) -> ConvexNLP:
 @settings(max_examples=EXAMPLES)
 @given(nlp=convex_nlps())
 def test_random_convex_nlps_with_a_strictly_feasible_point(nlp):
-    res = sqp.minimize(nlp.f, nlp.x0, nlp.grad, Bounds(nlp.lo, nlp.hi), nlp.constraints())
+    res = sqp.minimize(nlp.f, nlp.x0, jac=nlp.grad, bounds=Bounds(nlp.lo, nlp.hi), constraints=nlp.constraints())
     note(f"sqp: {res.status_name}: {res.message}\nx = {res.x!r}, f = {res.fun!r}, nit = {res.nit}")
     assert res.success, res.message
     scale = max(1.0, float(np.max(np.abs(res.x))))

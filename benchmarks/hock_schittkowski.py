@@ -43,7 +43,8 @@ def problem(prob: TestProblem) -> Problem:
 
 def run_ours(prob: TestProblem, backend: str) -> dict[str, Any]:
     start = time.perf_counter()
-    res = sqp.minimize(prob.fun, prob.x0, jac=prob.jac, bounds=prob.bounds, constraints=prob.constraints, qp_solver=backend)
+    res = sqp.minimize(prob.fun, prob.x0, jac=prob.jac, bounds=prob.bounds, constraints=prob.constraints,
+                       qp_solver=backend)
     return {"x": res.x, "f": res.fun, "success": res.success, "nfev": res.nfev, "nit": res.nit,
             "message": res.message, "time": time.perf_counter() - start}
 

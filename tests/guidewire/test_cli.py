@@ -10,6 +10,7 @@ import sys
 
 import pytest
 
+import sqp
 from guidewire import cli, reproduction
 from guidewire.paper import paper_scenes, scene_path
 from sqp import installed_solvers
@@ -42,7 +43,7 @@ def test_not_converged_exits_1_and_still_writes_json(tmp_path):
     out = tmp_path / "sol.json"
     assert cli.main(["solve", str(scene_path("table1_pi_4")), "--max-iter", "1", "--json", str(out)]) == 1
     data = json.loads(out.read_text())
-    assert data["success"] is False and data["status"] == 1 and "iteration" in data["message"]
+    assert data["success"] is False and data["status"] == sqp.Status.MAX_ITER.code and "iteration" in data["message"]
 
 
 @pytest.mark.parametrize(

@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+import sqp
 from guidewire import Solution, paper_scenes, solve
 
 SCENES = paper_scenes()
@@ -66,7 +67,7 @@ def test_to_dict_is_json_with_the_required_keys(table2):
 
 def test_iteration_limit_is_a_result_not_an_exception():
     sol = solve(SCENES["table1_pi_4"], max_iter=1)
-    assert not sol.success and sol.status == 1 and "iteration" in sol.message
+    assert not sol.success and sol.status == sqp.Status.MAX_ITER.code and "iteration" in sol.message
 
 
 def test_user_supplied_starts(table2):

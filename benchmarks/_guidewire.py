@@ -79,6 +79,17 @@ def make_case(scene: guidewire.Scene, *, bars: int | None = None, scheme: str | 
     return Case(scene, problem, start)
 
 
+def step_problem(sol: Any, initial_angles: Any) -> Problem:
+    """The program of a solved step as our last round stated it — its blocks (a lumen's rows modelled where that
+    round left them, exact at the answer) — from ``initial_angles``: the same NLP and start for a peer."""
+    from guidewire.formulation import assemble
+    from guidewire.model import build_model
+
+    form = assemble(build_model(sol.scene, initial_angles=initial_angles), sol.layout, sol.blocks)
+    return Problem(fun=form.fun, jac=form.jac, x0=form.x0, constraints=tuple(form.constraints), bounds=None,
+                   hess=form.hess)
+
+
 # ----------------------------------------------------------------------------------------------------------------
 # Ours
 # ----------------------------------------------------------------------------------------------------------------

@@ -56,7 +56,9 @@ class Options:
         Try a second-order correction when the full step is rejected (the Maratos-effect remedy).
     qp_fallbacks : tuple of str
         Backends asked, in order, when ``qp_solver`` fails a subproblem even after its retries (skipped when not
-        installed). The iteration table marks such a step ``opt[name]``. ``()`` disables the fallback.
+        installed). The iteration table marks such a step ``opt[name]``. ``()`` disables the fallback. Clarabel
+        (interior point) comes before OSQP: on the guidewire's aortic arch at 250 bars (52 subproblems DAQP and
+        quadprog failed) OSQP took 0.9 s per subproblem and the solve 49 s, Clarabel 5.9 s, same answer.
 
     Raises
     ------
@@ -72,7 +74,7 @@ class Options:
     callback: Callable[[Any], Any] | None = None
     verbose: bool = False
     second_order_correction: bool = True
-    qp_fallbacks: tuple[str, ...] = ("quadprog", "osqp")
+    qp_fallbacks: tuple[str, ...] = ("quadprog", "clarabel", "osqp")
 
     def __post_init__(self) -> None:
         if not isinstance(self.tol, int | float) or not self.tol > 0:

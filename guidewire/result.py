@@ -335,6 +335,9 @@ def build_solution(form: Formulation, res: Any, solve_time_s: float, *, iteratio
     success, status = bool(res.success), int(res.status)
     message = str(res.message) if message is None else message
     defect = shape_defect(form, nodes, max_violation, tol) if success else None
+    vessel = form.scene.vessel
+    if vessel is not None and bool(vessel.past_end(nodes[-1:])[0]):
+        message = f"{message} The tip has left the vessel past its far end."
     if defect is not None:
         success, status = False, SHAPE_REJECTED
         message = f"The solver converged, but the shape is rejected: {defect}. ({message})"

@@ -543,6 +543,12 @@ class Vessel:
         p = np.asarray(points, dtype=float).reshape(-1, 2)
         return self._geometry.clearance(p)
 
+    def past_end(self, points: ArrayLike) -> NDArray[np.bool_]:
+        """Whether each point lies beyond a tube's far end (in the straight continuation that lets a tip leave the
+        vessel), shape (m,). Always False for the lumen between two walls (open at both ends)."""
+        p = np.asarray(points, dtype=float).reshape(-1, 2)
+        return self._geometry.past_end(p)
+
     def path(self, s: ArrayLike) -> tuple[FloatArray, FloatArray]:
         """Points (m, 2) in mm and tangent angles (m,) in rad of the main centreline at arc lengths ``s`` (mm) from
         the entrance; beyond either end the centreline continues straight along its end tangent."""
@@ -635,6 +641,13 @@ class _TubeGeometry:
                         f"vessel.branch[{i}].centreline starts at {_fmt_point(start[i])}, {-d:.3g} mm outside the "
                         "main lumen; start each branch inside its parent (e.g. on the parent's centreline)."
                     )
+
+    def past_end(self, p: FloatArray) -> NDArray[np.bool_]:
+        tubes = self.tubes
+        m, t = len(p), len(tubes.curves)
+        best = tubes.closest(p)
+        flat = np.argmax((best["radius"] - best["r"]).reshape(t, m), axis=0) * m + np.arange(m)
+        return np.isin(best["source"][flat], (2, 3))
 
     def clearance(self, p: FloatArray) -> Clearance:
         tubes = self.tubes
@@ -772,6 +785,9 @@ class _WallGeometry:
         flat = pick * m + np.arange(m)
         return Clearance(distance=distance[pick, np.arange(m)], normal=-inward[flat], boundary=best["centre"][flat],
                          curvature=-side[flat] * kappa[flat])
+
+    def past_end(self, p: FloatArray) -> NDArray[np.bool_]:
+        return np.zeros(len(p), dtype=bool)
 
     def path(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
         return _path(self.main, s)

@@ -132,3 +132,10 @@ def test_entrance_push_is_the_energy_rate(name, bend):
     moment = a.reactions[0].moment
     assert abs(moment**2 / (2 * scene.wire.bending_stiffness)) > 0.01  # the configurational term matters here
     assert a.entrance_force() == pytest.approx(rate, abs=2e-3 * abs(a.axial_force()))
+
+
+def test_a_tip_past_the_far_end_is_a_result_that_says_so(bend):
+    inside, outside = solve(bend), solve(bend.with_wire(length=60.0, bars=60))  # the bend's centreline is 47.1 mm
+    assert inside.success and "left the vessel" not in inside.message
+    assert outside.success and "The tip has left the vessel past its far end." in outside.message
+    assert bend.vessel.past_end([[0.0, 0.0]]).tolist() == [False]

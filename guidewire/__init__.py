@@ -15,6 +15,7 @@ paper's scenes), :mod:`~guidewire.vessel` (vessel lumens), :mod:`~guidewire.plot
 """
 
 from .batch import SceneError, solve_many
+from .batch_insert import insert_many
 from .formulation import Formulation, formulate
 from .insertion import Insertion, insert
 from .paper import paper_groups, paper_scenes
@@ -42,6 +43,7 @@ __all__ = [
     "Wire",
     "formulate",
     "insert",
+    "insert_many",
     "load_scene",
     "paper_groups",
     "paper_scenes",

@@ -298,3 +298,20 @@ def test_default_pool_workers_run_one_blas_thread():
         assert pool.submit(solve_one, SCENES[0], {}).result().success  # numpy and its BLAS are loaded
         pools = pool.submit(threadpoolctl.threadpool_info).result()
     assert pools and all(p["num_threads"] == 1 for p in pools)  # numpy's BLAS is loaded and held to one thread
+
+
+def test_insertions_on_a_process_pool_match_serial_inserts():
+    from concurrent.futures import ProcessPoolExecutor
+
+    from guidewire import insert
+    from guidewire.batch_insert import insert_many
+
+    fig6b = guidewire.paper_scenes()["fig6b"].with_wire(length=40.0, bars=40)
+    jobs = [(fig6b, [40.0, 45.0, 50.0, 55.0]), (fig6b, [40.0, 50.0, 60.0]), (fig6b, [50.0, 40.0])]
+    with ProcessPoolExecutor(2) as pool:
+        out = insert_many(jobs, executor=pool, progress=False)
+    assert isinstance(out[2], SceneError) and "strictly increasing" in out[2].error
+    for (scene, lengths), got in zip(jobs[:2], out[:2], strict=True):
+        want = insert(scene, lengths)
+        assert [s.energy for s in got.steps] == [s.energy for s in want.steps]
+        assert all(np.array_equal(a.nodes, b.nodes) for a, b in zip(got.steps, want.steps, strict=True))

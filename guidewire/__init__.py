@@ -20,7 +20,7 @@ from .formulation import Formulation, formulate
 from .insertion import Insertion, insert
 from .paper import paper_groups, paper_scenes
 from .result import Reaction, Solution
-from .scene import Base, Contact, Scene, Wall, Wire
+from .scene import Base, Contact, Scene, Section, Wall, Wire
 from .scene_file import load_scene, scene_to_toml
 from .sequence import SequenceResult, solve_sequence
 from .solve import solve
@@ -36,6 +36,7 @@ __all__ = [
     "Reaction",
     "Scene",
     "SceneError",
+    "Section",
     "SequenceResult",
     "Solution",
     "Vessel",

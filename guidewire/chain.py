@@ -21,50 +21,103 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from .scene import Scene
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int_]
 
 
-def place_bars(length: float, bars: int, contact_s: Sequence[float]) -> tuple[FloatArray, IntArray]:
-    """Bar lengths that put a node at every contact.
+def _piece_ends(length: float, contact_s: FloatArray, breakpoints: Sequence[float]) -> FloatArray:
+    """Increasing ends of the pieces: every contact, every breakpoint not within rounding of a contact or an end,
+    and ``L``."""
+    extra = np.asarray(breakpoints, dtype=float)
+    tol = BREAK_ROUNDING * length
+    marks = np.concatenate((contact_s, [0.0, length]))
+    keep = (extra > tol) & (extra < length - tol)
+    if marks.size and extra.size:
+        keep &= np.min(np.abs(extra[:, None] - marks[None, :]), axis=1) > tol
+    ends = np.unique(np.concatenate((contact_s, extra[keep], [length])))
+    return ends[ends <= length]
+
+
+BREAK_ROUNDING = 1e-12
+"""A breakpoint within this fraction of ``L`` of a contact or an end is that contact or end (no sliver bar)."""
+
+
+def piece_count(length: float, contact_s: Sequence[float], breakpoints: Sequence[float] = ()) -> int:
+    """Number of pieces the contacts and breakpoints cut a wire of ``length`` into (the fewest bars it needs)."""
+    return int(_piece_ends(length, np.asarray(contact_s, dtype=float), breakpoints).size)
+
+
+def place_bars(length: float, bars: int, contact_s: Sequence[float], breakpoints: Sequence[float] = (),
+               pinned: Sequence[bool] | None = None) -> tuple[FloatArray, IntArray]:
+    """Bar lengths that put a node at every contact and every breakpoint.
+
+    The contacts and breakpoints cut the wire into pieces; the ``n`` bars are shared out in proportion to the
+    pieces' lengths (largest-remainder rounding, at least one bar each), equal within a piece. A piece running from
+    one prescribed position to the next (the base, or a contact with ``pinned`` True) gets at least two bars when
+    ``n`` allows, so that two positions closer than a bar are bridged by short bars that can bend, not by one rigid
+    bar that must span their distance exactly. Without breakpoints and without such a one-bar piece this is exactly
+    the uniform chain of the paper when every contact sits at a multiple of ``L/n``.
 
     Parameters
     ----------
     length : float
         Wire length ``L`` (mm).
     bars : int
-        Number ``n`` of bars, at least the number of segments.
+        Number ``n`` of bars, at least the number of pieces.
     contact_s : sequence of float
         Strictly increasing contact arc lengths in ``(0, L]``.
+    breakpoints : sequence of float
+        Further arc lengths that must be nodes (section boundaries), mm; those outside ``(0, L)`` or within
+        :data:`BREAK_ROUNDING` of a contact are ignored.
+    pinned : sequence of bool or None
+        Per contact: whether it prescribes a position (default: none does, no bridging).
 
     Returns
     -------
     lengths : ndarray, shape (n,)
-        Bar lengths (mm), summing to ``L``; equal within each segment.
+        Bar lengths (mm), summing to ``L``; equal within each piece.
     contact_nodes : ndarray of int, shape (len(contact_s),)
         Node index (0 = base, n = tip) of each contact.
     """
     s = np.asarray(contact_s, dtype=float)
-    ends = s if (s.size and s[-1] >= length) else np.append(s, length)
+    ends = _piece_ends(length, s, breakpoints)
     seg = np.diff(np.concatenate(([0.0], ends)))
     if bars < seg.size:
-        raise ValueError(f"bars is {bars} but there are {seg.size} segments; use at least one bar per segment.")
+        raise ValueError(f"bars is {bars} but there are {seg.size} pieces; use at least one bar per piece.")
+    minimum = np.ones(seg.size, dtype=int)
+    if pinned is not None and s.size:
+        held = np.concatenate(([0.0], s[np.asarray(pinned, dtype=bool)]))  # positions: the base and pinned contacts
+        starts = np.concatenate(([0.0], ends[:-1]))
+        bridge = np.isin(starts, held) & np.isin(ends, held[1:])
+        if bars >= seg.size + int(bridge.sum()):
+            minimum = minimum + bridge
     ideal = bars * seg / length
     near = np.round(ideal)
     ideal = np.where(np.abs(ideal - near) < 1e-9 * max(1.0, bars), near, ideal)
-    count = np.maximum(np.floor(ideal).astype(int), 1)
-    while count.sum() > bars:  # the "at least one" floor overshot: take from the most over-served segment
-        count[np.argmax(np.where(count > 1, count - ideal, -np.inf))] -= 1
+    count = np.maximum(np.floor(ideal).astype(int), minimum)
+    while count.sum() > bars:  # the "at least" floor overshot: take from the most over-served piece
+        count[np.argmax(np.where(count > minimum, count - ideal, -np.inf))] -= 1
     remainder = ideal - count
     order = np.argsort(-remainder, kind="stable")
     count[order[: bars - count.sum()]] += 1
     lengths = np.repeat(seg / count, count)
     node_at_end = np.cumsum(count)
-    return lengths, node_at_end[: s.size].astype(np.int_)
+    return lengths, node_at_end[np.searchsorted(ends, s)].astype(np.int_)
+
+
+def scene_bars(scene: Scene) -> tuple[FloatArray, IntArray]:
+    """:func:`place_bars` of a scene: a node at every contact and section boundary, positions bridged."""
+    contacts = scene.contacts
+    return place_bars(scene.wire.length, scene.wire.bars, [c.s for c in contacts], scene.wire.section_boundaries(),
+                      [c.point is not None for c in contacts])
 
 
 @dataclass(frozen=True)

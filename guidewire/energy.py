@@ -27,6 +27,16 @@ Interior joint between bars ``k`` and ``k+1`` (both schemes)
     and need no constraint rows.
 
 A free base angle adds no clamp term; a free end adds nothing after the last bar.
+
+Sections (variable ``EI``) and rest curvature
+    Every bar ``j`` has its own ``EI_j`` and rest curvature ``κ⁰_j`` (:meth:`guidewire.Wire.properties_at`; a
+    section boundary is always a node). A term covers half of each adjoining bar, so its rest angle is
+    ``Δθ⁰ = Σ κ⁰_j l_j / 2`` over those halves (``κ⁰_1 l_1`` for the paper scheme's full clamp joint) and the term
+    becomes ``c (Δ − Δθ⁰)²``: ``Δθ⁰`` is part of the offset ``r``. The stiffness of an interior joint is the
+    half-bar-weighted harmonic mean ``EI = (l_k + l_{k+1}) / (l_k/EI_k + l_{k+1}/EI_{k+1})`` (the two halves are
+    springs in series), so ``c = 1 / (l_k/EI_k + l_{k+1}/EI_{k+1})``; with equal ``EI`` it is exactly ``EI`` (the
+    uniform wire's numbers are unchanged bit for bit). A half joint takes its bar's ``EI``. A chain whose bar angles
+    follow the rest angles at every term has zero energy: a free J-tipped wire rests in its J.
 """
 
 from __future__ import annotations
@@ -60,6 +70,8 @@ class EnergyTerms:
         ``w_t`` in mm, so that ``κ_t = Δ_t / w_t``.
     node : ndarray of int, shape (m,)
         Node index of the joint (0 = base).
+    rest : ndarray, shape (m,), or None
+        ``Δθ⁰_t``, the rest angle of the term (rad), already included in ``offset``; None means zeros.
     """
 
     matrix: sp.csr_matrix
@@ -67,6 +79,12 @@ class EnergyTerms:
     weight: FloatArray
     dual_length: FloatArray
     node: IntArray
+    rest: FloatArray | None = None
+
+    @property
+    def rest_angles(self) -> FloatArray:
+        """``Δθ⁰_t`` (rad), shape (m,): zeros for a straight wire."""
+        return np.zeros(self.offset.size) if self.rest is None else self.rest
 
     @cached_property
     def _coo(self) -> tuple[IntArray, IntArray, FloatArray]:
@@ -74,7 +92,7 @@ class EnergyTerms:
         return m.row.astype(np.intp), m.col.astype(np.intp), m.data
 
     def joint_angles(self, phi: FloatArray) -> FloatArray:
-        """``Δ_t = D_t φ − r_t`` in rad, shape (m,)."""
+        """``Δ_t = D_t φ − r_t`` in rad, shape (m,): the bend away from the rest shape (the elastic part)."""
         rows, cols, data = self._coo
         return np.bincount(rows, data * phi[cols], minlength=self.offset.size) - self.offset
 
@@ -128,11 +146,12 @@ class EnergyTerms:
 
 def bending_terms(
     lengths: FloatArray,
-    stiffness: float,
+    stiffness: float | FloatArray,
     scheme: str,
     base_angle: float | None,
     angle_nodes: Sequence[int],
     angles: Sequence[float],
+    rest_curvature: FloatArray | None = None,
 ) -> EnergyTerms:
     """The energy terms of one scheme for a chain with prescribed tangents.
 
@@ -140,14 +159,16 @@ def bending_terms(
     ----------
     lengths : ndarray, shape (n,)
         Bar lengths in mm.
-    stiffness : float
-        ``EI`` in N·mm².
+    stiffness : float or ndarray, shape (n,)
+        ``EI`` in N·mm², one value or one per bar.
     scheme : {"second_order", "paper"}
     base_angle : float or None
         Clamp tangent ``θ_A`` at node 0, or None for a free base.
     angle_nodes, angles : sequences
         Nodes (1..n) with a prescribed tangent and the tangents in rad. In the paper scheme they add no terms (they
         are constraint rows); in the second-order scheme they split the joint into two half joints.
+    rest_curvature : ndarray, shape (n,), or None
+        ``κ⁰`` per bar (1/mm); None is a straight wire.
 
     Returns
     -------
@@ -178,6 +199,26 @@ def bending_terms(
     data = np.concatenate((np.full(int(np.sum(left >= 0)), -1.0), np.ones(int(np.sum(right >= 0)))))
     ij = (np.concatenate((rows[left >= 0], rows[right >= 0])), np.concatenate((left[left >= 0], right[right >= 0])))
     matrix = sp.csr_matrix((data, ij), shape=(node.size, n))
+    if np.ndim(stiffness) == 0:
+        weight = float(stiffness) / (2.0 * dual)  # the uniform wire, exactly as before
+    else:
+        ei = np.asarray(stiffness, dtype=float)
+        both = (left >= 0) & (right >= 0)
+        ei_left, ei_right = ei[np.maximum(left, 0)], ei[np.maximum(right, 0)]
+        single = np.where(left >= 0, ei_left, ei_right)  # a half (or clamp) joint: its one bar
+        series = 1.0 / (lengths[np.maximum(left, 0)] / ei_left + lengths[np.maximum(right, 0)] / ei_right)
+        weight = np.where(both & (ei_left != ei_right), series, single / (2.0 * dual))
+    rest = None
+    if rest_curvature is not None and np.any(np.asarray(rest_curvature) != 0.0):
+        kappa0 = np.asarray(rest_curvature, dtype=float)
+        # the halves of the adjoining bars a term covers: dual = l/2 each (second order), or all of bar 1 for the
+        # paper scheme's clamp; a joint between two bars covers half of each
+        left_part = np.where(left >= 0, kappa0[np.maximum(left, 0)] * lengths[np.maximum(left, 0)] / 2.0, 0.0)
+        right_part = np.where(right >= 0, kappa0[np.maximum(right, 0)] * lengths[np.maximum(right, 0)] / 2.0, 0.0)
+        rest = left_part + right_part
+        clamp = (left < 0) & (node == 0)
+        rest = np.where(clamp, kappa0[0] * dual, rest)
+        offset = offset + rest
     return EnergyTerms(
-        matrix=matrix, offset=offset, weight=stiffness / (2.0 * dual), dual_length=dual, node=node.astype(np.int_)
+        matrix=matrix, offset=offset, weight=weight, dual_length=dual, node=node.astype(np.int_), rest=rest
     )

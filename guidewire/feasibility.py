@@ -44,7 +44,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from .chain import place_bars
+from .chain import scene_bars
 from .fields import fmt as _fmt
 from .fields import fmt_point as _fmt_point
 
@@ -75,7 +75,7 @@ def _positions(scene: Scene) -> list[tuple[str, float, tuple[float, float], int]
 @lru_cache(maxsize=8)
 def _bars(scene: Scene) -> tuple[FloatArray, NDArray[np.int_]]:
     """:func:`~guidewire.chain.place_bars` of the scene (bar lengths, contact nodes), shared by the checks."""
-    return place_bars(scene.wire.length, scene.wire.bars, [c.s for c in scene.contacts])
+    return scene_bars(scene)
 
 
 def _angle_gap(a: float, b: float) -> float:

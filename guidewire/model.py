@@ -9,7 +9,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from .chain import BarChain, place_bars
+from .chain import BarChain, scene_bars
 from .energy import EnergyTerms, bending_terms
 from .initial_shape import initial_angles as default_initial_angles
 from .scene import Scene
@@ -72,12 +72,17 @@ def build_model(scene: Scene, initial_angles: Any = None, initial_nodes: Any = N
     if initial_angles is not None and initial_nodes is not None:
         raise ValueError("pass initial_angles or initial_nodes, not both.")
     wire, contacts = scene.wire, scene.contacts
-    lengths, contact_nodes = place_bars(wire.length, wire.bars, [c.s for c in contacts])
+    lengths, contact_nodes = scene_bars(scene)
     chain = BarChain(np.asarray(scene.base.point, dtype=float), lengths)
     n = chain.n_bars
     angle_ids = [i for i, c in enumerate(contacts) if c.angle is not None]
-    energy = bending_terms(lengths, wire.bending_stiffness, wire.scheme, scene.base.angle, contact_nodes[angle_ids],
-                           np.array([contacts[i].angle for i in angle_ids], dtype=float))
+    stiffness: float | FloatArray = wire.bending_stiffness
+    rest = None
+    if wire.sections:  # per-bar values at the bar midpoints (a section boundary is always a node)
+        props = wire.properties_at(chain.arc_lengths[:-1] + 0.5 * lengths)
+        stiffness, rest = props.bending_stiffness, props.rest_curvature
+    energy = bending_terms(lengths, stiffness, wire.scheme, scene.base.angle, contact_nodes[angle_ids],
+                           np.array([contacts[i].angle for i in angle_ids], dtype=float), rest)
     if initial_angles is not None:
         x0 = _check_initial(initial_angles, n, "initial_angles", (n,))
     elif initial_nodes is not None:

@@ -92,9 +92,10 @@ class Solution:
         ``κ = Δθ / w`` (1/mm) with ``w`` the joint's dual length (:mod:`guidewire.energy`); at a node with two
         half joints (an interior angle contact, second-order scheme) the larger in magnitude.
     bending_stress_mpa : ndarray, shape (n + 1,)
-        ``σ = E·(d/2)·|κ|`` in MPa.
+        ``σ = E·(d/2)·|κ − κ⁰|`` in MPa, measured from the rest shape (``κ⁰`` the rest curvature), with the ``E``
+        and ``d`` of the bars at the node (the larger value where two sections meet).
     paper_stress_measure : ndarray, shape (n + 1,)
-        The paper's relative measure ``|Δθ|`` (rad; §2.4, Eq. 22, ``σ_b = k|Δθ|``).
+        The paper's relative measure ``|Δθ − Δθ⁰|`` (rad; §2.4, Eq. 22, ``σ_b = k|Δθ|``), from the rest shape.
     energy : float
         Bending energy (N·mm).
     reactions : tuple of Reaction
@@ -216,13 +217,15 @@ class Solution:
         if axial is None:
             return None
         moment = self.reactions[0].moment or 0.0
-        return float(axial - moment**2 / (2.0 * self.scene.wire.bending_stiffness))
+        stiffness = float(self.scene.wire.properties_at(0.5 * (self.s[0] + self.s[1])).bending_stiffness[0])
+        return float(axial - moment**2 / (2.0 * stiffness))
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready values (lists and numbers); ``units`` names the unit of every quantity, ``scene`` is the
         scene's geometry as a scene file holds it (:func:`guidewire.scene_file.scene_to_dict`)."""
         return {
             "units": UNITS, "scene": scene_to_dict(self.scene), "scheme": self.scheme, "bars": self.n_bars,
+            "bar_lengths": np.diff(self.s).tolist(),
             "layout": self.layout, "success": self.success, "status": self.status, "message": self.message,
             "fallback": self.fallback, "energy": self.energy, "iterations": self.iterations, "rounds": self.rounds,
             "solve_time_s": self.solve_time_s, "max_violation": self.max_violation,
@@ -249,8 +252,9 @@ UNITS = {
 }
 
 
-def _node_geometry(form: Formulation, phi: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Tangent angles, relative angles and curvature at the nodes."""
+def _node_geometry(form: Formulation, phi: FloatArray
+                   ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Tangent angles, relative angles, curvature, bending stress (MPa) and elastic angle jump at the nodes."""
     n, scene, energy = form.n, form.scene, form.energy
     tangent = np.concatenate(([phi[0]], 0.5 * (phi[:-1] + phi[1:]), [phi[-1]]))
     if scene.base.angle is not None:
@@ -258,14 +262,35 @@ def _node_geometry(form: Formulation, phi: FloatArray) -> tuple[FloatArray, Floa
     for node, contact in zip(form.contact_nodes, scene.contacts, strict=True):  # contacts, not nodes
         if contact.angle is not None:
             tangent[node] = contact.angle
-    delta = energy.joint_angles(phi)
+    elastic = energy.joint_angles(phi)
+    delta = elastic + energy.rest_angles if energy.rest is not None else elastic
     relative = np.zeros(n + 1)
     np.add.at(relative, energy.node, delta)
     kappa_t = delta / energy.dual_length
     order = np.lexsort((np.abs(kappa_t), energy.node))  # per node, the largest |κ| assigned last
     curvature = np.zeros(n + 1)
     curvature[energy.node[order]] = kappa_t[order]
-    return tangent, relative, curvature
+    wire = scene.wire
+    if wire.sections:
+        props = wire.properties_at(form.chain.arc_lengths[:-1] + 0.5 * form.chain.lengths)
+        ends = form.chain.lengths[[0, -1]] * props.rest_curvature[[0, -1]] / 2.0  # a free end's half bar of rest turn
+        if scene.base.angle is None:
+            tangent[0] -= ends[0]
+        if not (scene.contacts and form.contact_nodes[-1] == n and scene.contacts[-1].angle is not None):
+            tangent[-1] += ends[1]
+        fibre = props.youngs_modulus * 0.5 * props.diameter  # E·d/2 per bar
+        rows, cols, _ = energy._coo
+        term_fibre = np.zeros(energy.node.size)
+        np.maximum.at(term_fibre, rows, fibre[cols])  # the larger of the term's bars
+        stress_t = term_fibre * np.abs(elastic / energy.dual_length)
+        stress = np.zeros(n + 1)
+        np.maximum.at(stress, energy.node, stress_t)
+        jump = np.zeros(n + 1)
+        np.add.at(jump, energy.node, elastic)
+    else:
+        stress = wire.youngs_modulus * 0.5 * wire.diameter * np.abs(curvature)
+        jump = relative
+    return tangent, relative, curvature, stress, jump
 
 
 def _reactions(form: Formulation, phi: FloatArray, nodes: FloatArray, multipliers: list[FloatArray] | None
@@ -329,7 +354,6 @@ def build_solution(form: Formulation, res: Any, solve_time_s: float, *, iteratio
     """
     multipliers = form.multipliers(res)
     phi = form.answer(np.asarray(res.x, dtype=float), multipliers)
-    wire = form.scene.wire
     nodes = form.chain.nodes(phi)
     max_violation = form.max_violation(phi)
     success, status = bool(res.success), int(res.status)
@@ -341,13 +365,12 @@ def build_solution(form: Formulation, res: Any, solve_time_s: float, *, iteratio
     if defect is not None:
         success, status = False, SHAPE_REJECTED
         message = f"The solver converged, but the shape is rejected: {defect}. ({message})"
-    tangent, relative, curvature = _node_geometry(form, phi)
+    tangent, relative, curvature, stress, jump = _node_geometry(form, phi)
     reactions, wall_forces = _reactions(form, phi, nodes, multipliers if success else None)
     return Solution(
         scene=form.scene, nodes=nodes, s=form.chain.arc_lengths, bar_angles=phi, tangent_angles=tangent,
-        relative_angles=relative, curvature=curvature,
-        bending_stress_mpa=wire.youngs_modulus * 0.5 * wire.diameter * np.abs(curvature),
-        paper_stress_measure=np.abs(relative), energy=float(form.energy.value(phi)), reactions=reactions,
+        relative_angles=relative, curvature=curvature, bending_stress_mpa=stress, paper_stress_measure=np.abs(jump),
+        energy=float(form.energy.value(phi)), reactions=reactions,
         wall_forces=wall_forces, success=success, status=status, message=message,
         iterations=int(res.nit) if iterations is None else int(iterations), solve_time_s=float(solve_time_s),
         max_violation=max_violation, result=res, layout=form.layout.name, rounds=int(rounds),

@@ -15,6 +15,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
+import numpy as np
+from numpy.typing import NDArray
+
+from .chain import piece_count
 from .fields import fmt as _fmt
 from .fields import point as _point
 from .fields import real as _real
@@ -26,6 +30,79 @@ SCHEMES = ("second_order", "paper")
 
 S_ROUNDING = 1e-12
 """A contact within this fraction of the wire length of its end is at the end (rounding in ``k·(L/n)``)."""
+
+@dataclass(frozen=True)
+class Section:
+    """A stretch of the wire with its own material, cross-section and rest shape, measured from the tip.
+
+    Sections are listed from the tip (:attr:`Wire.sections`): the first covers the last ``length`` mm of wire, the
+    next the ``length`` mm before it, and so on; the wire's own values hold from the last section to the base (and
+    fill every field a section leaves None). Measured from the tip, a section moves with the material as the wire is
+    inserted (:meth:`Wire.with_length`).
+
+    Parameters
+    ----------
+    length : float
+        Length along the wire in mm (> 0).
+    youngs_modulus : float or None
+        ``E`` in MPa; None takes the wire's.
+    diameter : float or None
+        ``d`` in mm; None takes the wire's.
+    moment_of_inertia : float or None
+        ``I`` in mm⁴; None gives ``π d⁴ / 64`` of the section's diameter when the section sets one, else the wire's
+        ``I``.
+    rest_curvature : float
+        Curvature of the unloaded section in 1/mm, signed like the tangent angle's change from base to tip
+        (positive turns counter-clockwise towards the tip). A J-tip of radius ``R`` over an angle ``α`` is a tip
+        section of length ``R·α`` and rest curvature ``±1/R``; the sign picks which of the two mirror images.
+    """
+
+    length: float
+    youngs_modulus: float | None = None
+    diameter: float | None = None
+    moment_of_inertia: float | None = None
+    rest_curvature: float = 0.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "length", _real(self.length, "section.length", positive=True))
+        for name in ("youngs_modulus", "diameter", "moment_of_inertia"):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, _real(getattr(self, name), f"section.{name}", positive=True))
+        if self.youngs_modulus is not None:
+            warn_modulus(self.youngs_modulus, "section.youngs_modulus")
+        object.__setattr__(self, "rest_curvature", _real(self.rest_curvature, "section.rest_curvature"))
+
+    @classmethod
+    def arc(cls, radius: float, angle: float, **properties: Any) -> Section:
+        """A section bent at rest into a circular arc of ``radius`` (mm) over ``angle`` (rad; its sign is the turn's
+        sense from base to tip, e.g. ``Section.arc(12.1, 0.4 * math.pi)`` turns counter-clockwise)."""
+        radius = _real(radius, "section radius", positive=True)
+        angle = _real(angle, "section angle")
+        if angle == 0.0:
+            raise ValueError("section angle is 0; give the arc's turning angle in rad (its sign is the J's side).")
+        return cls(length=radius * abs(angle), rest_curvature=math.copysign(1.0, angle) / radius, **properties)
+
+
+@dataclass(frozen=True)
+class WireProperties:
+    """Per-bar material values of a wire (arrays over bars, base first).
+
+    Attributes
+    ----------
+    youngs_modulus, diameter, second_moment, rest_curvature : ndarray, shape (n,)
+        ``E`` (MPa), ``d`` (mm), ``I`` (mm⁴) and ``κ⁰`` (1/mm) of every bar.
+    """
+
+    youngs_modulus: NDArray[np.float64]
+    diameter: NDArray[np.float64]
+    second_moment: NDArray[np.float64]
+    rest_curvature: NDArray[np.float64]
+
+    @property
+    def bending_stiffness(self) -> NDArray[np.float64]:
+        """``EI`` in N·mm² per bar."""
+        return self.youngs_modulus * self.second_moment
+
 
 @dataclass(frozen=True)
 class Wire:
@@ -49,6 +126,9 @@ class Wire:
         The paper's ``b₂`` (Eq. 19): ``|Δθ| ≤ b₂`` at every joint, in rad. None (default) adds no such rows.
     scheme : {"second_order", "paper"}
         Discretisation of the bending energy (see :mod:`guidewire.formulation`).
+    sections : sequence of Section
+        Stretches with their own properties, listed from the tip (see :class:`Section`); empty (default) is the
+        uniform wire. Sections longer in total than ``length`` are allowed: only the inserted part counts.
     """
 
     length: float
@@ -58,6 +138,7 @@ class Wire:
     moment_of_inertia: float | None = None
     max_relative_angle: float | None = None
     scheme: str = "second_order"
+    sections: tuple[Section, ...] = ()
 
     def __post_init__(self) -> None:
         length = _real(self.length, "wire.length")
@@ -87,6 +168,48 @@ class Wire:
             raise ValueError(f"wire.scheme is {self.scheme!r}; expected one of {', '.join(map(repr, SCHEMES))}.")
         object.__setattr__(self, "length", length)
         object.__setattr__(self, "bars", int(self.bars))
+        if isinstance(self.sections, Section) or not isinstance(self.sections, Sequence):
+            raise TypeError(f"wire.sections is {self.sections!r}; expected a sequence of guidewire.Section.")
+        for i, section in enumerate(self.sections):
+            if not isinstance(section, Section):
+                raise TypeError(f"wire.sections[{i}] is {type(section).__name__}; expected guidewire.Section.")
+        object.__setattr__(self, "sections", tuple(self.sections))
+
+    def with_length(self, length: float) -> Wire:
+        """The same wire inserted to ``length`` mm: the sections stay anchored at the tip (they move with the
+        material), so a longer wire has more of the base-side material."""
+        return replace(self, length=length)
+
+    def section_boundaries(self) -> tuple[float, ...]:
+        """Arc lengths from the base (mm, increasing, inside ``(0, L)``) where one section meets the next."""
+        ends = self.length - np.cumsum([sec.length for sec in self.sections])
+        return tuple(float(s) for s in sorted(ends) if S_ROUNDING * self.length < s < self.length * (1 - S_ROUNDING))
+
+    def properties_at(self, s: Any) -> WireProperties:
+        """Material values at arc lengths ``s`` (mm from the base; vectorised, shape of ``s`` ravelled).
+
+        A point exactly on a section boundary takes the tip-side section's values; callers evaluate bar midpoints.
+        """
+        s = np.atleast_1d(np.asarray(s, dtype=float)).ravel()
+        own = (self.youngs_modulus, self.diameter, self.second_moment, 0.0)
+        table = [own]
+        for sec in self.sections:
+            diameter = self.diameter if sec.diameter is None else sec.diameter
+            if sec.moment_of_inertia is not None:
+                inertia = sec.moment_of_inertia
+            elif sec.diameter is not None:
+                inertia = math.pi * sec.diameter**4 / 64.0
+            else:
+                inertia = self.second_moment
+            modulus = self.youngs_modulus if sec.youngs_modulus is None else sec.youngs_modulus
+            table.append((modulus, diameter, inertia, sec.rest_curvature))
+        values = np.array(table)  # row 0 the wire's own, row i section i (from the tip)
+        tip_distance = np.cumsum([0.0, *(sec.length for sec in self.sections)])  # section i: [start, end) from tip
+        from_tip = self.length - s
+        index = np.searchsorted(tip_distance, from_tip, side="left")  # 1..m inside a section, m+1 past them
+        index = np.where(index > len(self.sections), 0, np.maximum(index, 1) if self.sections else 0)
+        picked = values[index]
+        return WireProperties(picked[:, 0], picked[:, 1], picked[:, 2], picked[:, 3])
 
     @property
     def second_moment(self) -> float:
@@ -262,6 +385,12 @@ class Scene:
             raise ValueError(
                 f"wire.bars is {self.wire.bars} but the contacts split the wire into {len(self.segment_ends())} "
                 "segments; use at least one bar per segment."
+            )
+        pieces = piece_count(self.wire.length, [c.s for c in contacts], self.wire.section_boundaries())
+        if self.wire.bars < pieces:
+            raise ValueError(
+                f"wire.bars is {self.wire.bars} but the contacts and section boundaries split the wire into {pieces} "
+                "pieces; use at least one bar per piece."
             )
         object.__setattr__(self, "walls", walls)
 

@@ -12,6 +12,13 @@ The format::
     max_relative_angle = 0.2     # b₂ (rad); optional, omitted = no bounds
     scheme = "paper"             # optional, default "second_order"
 
+    [[wire.section]]             # zero or more, listed FROM THE TIP; the wire's own values hold base-side of them
+    length = 19.0                # mm along the wire
+    youngs_modulus = 17000.0     # optional, default the wire's
+    diameter = 0.7               # optional, default the wire's
+    moment_of_inertia = 0.0118   # optional, default π d⁴/64 (the wire's I when the section sets no diameter)
+    rest_curvature = 0.0826      # optional (1/mm), signed like the tangent's turn from base to tip; default 0
+
     [base]                       # s = 0
     point = [0.0, 0.0]
     angle = 0.0                  # optional; omitted = free to rotate
@@ -48,11 +55,13 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from .scene import Base, Contact, Scene, Wall, Wire
+from .scene import Base, Contact, Scene, Section, Wall, Wire
 from .vessel import Branch, Vessel
 
 _TOP_KEYS = {"name", "notes", "wire", "base", "contact", "wall", "vessel"}
-_WIRE_KEYS = {"length", "bars", "youngs_modulus", "diameter", "moment_of_inertia", "max_relative_angle", "scheme"}
+_WIRE_KEYS = {"length", "bars", "youngs_modulus", "diameter", "moment_of_inertia", "max_relative_angle", "scheme",
+              "section"}
+_SECTION_KEYS = {"length", "youngs_modulus", "diameter", "moment_of_inertia", "rest_curvature"}
 _BASE_KEYS = {"point", "angle", "name"}
 _CONTACT_KEYS = {"s", "point", "angle", "name"}
 _WALL_KEYS = {"normal", "offset"}
@@ -102,7 +111,13 @@ def _table(data: Any, where: str, allowed: set[str], required: tuple[str, ...]) 
 def scene_from_dict(data: Mapping[str, Any], *, name: str = "") -> Scene:
     """Build a :class:`Scene` from the parsed TOML mapping (see the module docstring for the keys)."""
     top = _table(data, "scene file", _TOP_KEYS, ("wire",) if "vessel" in data else ("wire", "base"))
-    wire = Wire(**_table(top["wire"], "wire", _WIRE_KEYS, ("length", "bars")))
+    wire_table = dict(_table(top["wire"], "wire", _WIRE_KEYS, ("length", "bars")))
+    section_list = wire_table.pop("section", [])
+    if not isinstance(section_list, list):
+        raise ValueError("wire.section must be an array of tables: write [[wire.section]] (double brackets).")
+    sections = tuple(_item(Section, c, f"wire.section {i + 1}", _SECTION_KEYS, ("length",))
+                     for i, c in enumerate(section_list))
+    wire = Wire(**wire_table, sections=sections)
     vessel = _vessel(top["vessel"]) if "vessel" in top else None
     if "base" in top:
         base = Base(**_table(top["base"], "base", _BASE_KEYS, ("point",)))
@@ -217,6 +232,12 @@ def scene_to_dict(scene: Scene) -> dict[str, Any]:
     if w.max_relative_angle is not None:
         wire["max_relative_angle"] = w.max_relative_angle
     wire["scheme"] = w.scheme
+    if w.sections:
+        wire["section"] = [
+            {key: getattr(sec, key) for key in ("length", "youngs_modulus", "diameter", "moment_of_inertia",
+                                                "rest_curvature") if getattr(sec, key) is not None}
+            for sec in w.sections
+        ]
     base: dict[str, Any] = {"point": list(scene.base.point)}
     if scene.base.angle is not None:
         base["angle"] = scene.base.angle
@@ -271,7 +292,9 @@ def scene_to_toml(scene: Scene) -> str:
     lines = [f"{key} = {_toml_value(data[key])}" for key in ("name", "notes") if key in data]
     for table in ("wire", "base"):
         if table in data:
-            lines += ["", f"[{table}]", *(f"{k} = {_toml_value(v)}" for k, v in data[table].items())]
+            lines += ["", f"[{table}]", *(f"{k} = {_toml_value(v)}" for k, v in data[table].items() if k != "section")]
+    for item in data["wire"].get("section", []):
+        lines += ["", "[[wire.section]]", *(f"{k} = {_toml_value(v)}" for k, v in item.items())]
     for table in ("contact", "wall"):
         for item in data.get(table, []):
             lines += ["", f"[[{table}]]", *(f"{k} = {_toml_value(v)}" for k, v in item.items())]

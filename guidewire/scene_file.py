@@ -293,8 +293,8 @@ def scene_to_toml(scene: Scene) -> str:
     for table in ("wire", "base"):
         if table in data:
             lines += ["", f"[{table}]", *(f"{k} = {_toml_value(v)}" for k, v in data[table].items() if k != "section")]
-    for item in data["wire"].get("section", []):
-        lines += ["", "[[wire.section]]", *(f"{k} = {_toml_value(v)}" for k, v in item.items())]
+        for item in data[table].get("section", []) if table == "wire" else []:
+            lines += ["", "[[wire.section]]", *(f"{k} = {_toml_value(v)}" for k, v in item.items())]
     for table in ("contact", "wall"):
         for item in data.get(table, []):
             lines += ["", f"[[{table}]]", *(f"{k} = {_toml_value(v)}" for k, v in item.items())]

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .chain import scene_bars
 from .result import UNITS, Solution
 from .scene import Scene
 from .scene_file import scene_to_dict
@@ -73,11 +74,20 @@ def step_record(sol: Solution) -> dict[str, Any]:
     }
 
 
+def _bar_midpoints(scene: Scene, bars: int) -> FloatArray:
+    """Arc lengths of the bar midpoints of ``scene`` (mm): equal bars for a uniform wire, else the layout the solve
+    will use (a node at every section boundary and contact)."""
+    if not scene.wire.sections:
+        return (np.arange(bars) + 0.5) * (scene.wire.length / bars)
+    lengths, _ = scene_bars(scene)
+    return np.cumsum(lengths) - 0.5 * lengths
+
+
 def _advanced_angles(prev: Solution, scene: Scene, bars: int) -> FloatArray:
     """Start angles for ``scene`` from the previous step: the material at arc length ``s`` was at ``s − ΔL``; the new
     first ``ΔL`` follows the vessel's centreline (or the base tangent)."""
     length = scene.wire.length
-    s_mid = (np.arange(bars) + 0.5) * (length / bars)
+    s_mid = _bar_midpoints(scene, bars)
     shift = length - float(prev.s[-1])
     s_old = 0.5 * (prev.s[1:] + prev.s[:-1])
     carried = np.interp(s_mid - shift, s_old, prev.bar_angles)
@@ -95,7 +105,7 @@ def _tracked_angles(prev: Solution, scene: Scene, bars: int) -> FloatArray:
     """Start angles for ``scene`` from the previous step, the wire sliding along its own track: the first
     ``L_prev`` of the new wire lies where the previous wire lay, the new ``ΔL`` continues the previous tip's tangent
     (a follow-the-leader predictor: inside a tortuous lumen it stays inside, where a pushed copy does not)."""
-    s_mid = (np.arange(bars) + 0.5) * (scene.wire.length / bars)
+    s_mid = _bar_midpoints(scene, bars)
     s_old = 0.5 * (prev.s[1:] + prev.s[:-1])
     return np.interp(s_mid, s_old, prev.bar_angles)  # beyond the old tip: its last bar's angle
 
@@ -153,7 +163,8 @@ def insert(scene: Scene, lengths: Iterable[float], *, predictor: str = "track", 
     steps: list[Solution] = []
     started: list[str] = []
     for length in values:
-        bars = max(1, int(round(length * density)))
+        grown = scene.wire.with_length(length)  # sections stay anchored at the tip: they move with the material
+        bars = max(1 + len(grown.section_boundaries()), int(round(length * density)))
         step_scene = scene.with_wire(length=length, bars=bars)
         try:
             if not steps:

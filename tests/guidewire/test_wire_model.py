@@ -219,3 +219,21 @@ def test_insertion_carries_the_j_with_the_material():
     for step in run.steps:
         boundary = step.scene.wire.length - J_RADIUS * J_ANGLE
         assert np.min(np.abs(step.s - boundary)) < 1e-9
+
+
+def test_second_order_convergence_on_a_graded_sectioned_layout():
+    """Three sections (a J-tip, a middle section, the shaft) whose boundaries fall between multiples of L/n, so every
+    layout is graded; the section boundary node and the energy converge at order 2 (successive differences quarter)."""
+    wire = Wire(60.0, 10, **SHAFT, sections=(Section.arc(J_RADIUS, J_ANGLE, **TIP), Section(10.0, youngs_modulus=4e4)))
+    scene = Scene(wire, Base((0.0, 0.0), 0.0), (Contact(60.0, point=(45.0, -10.0)),))
+    boundary = 60.0 - J_RADIUS * J_ANGLE
+    points, energies = [], []
+    for n in (40, 80, 160, 320):
+        sol = solve(scene.with_bars(n))
+        assert sol.success and np.ptp(np.diff(sol.s)) > 1e-3  # non-uniform bars
+        points.append(sol.nodes[np.argmin(np.abs(sol.s - boundary))])
+        energies.append(sol.energy)
+    for values in (np.array(points), np.array(energies)):
+        steps = np.linalg.norm(np.diff(values, axis=0).reshape(3, -1), axis=1)
+        order = np.log2(steps[:-1] / steps[1:])
+        assert np.all((order > 1.8) & (order < 2.2)), order

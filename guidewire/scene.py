@@ -438,7 +438,7 @@ class Scene:
 
     def mirrored(self) -> Scene:
         """The scene reflected in the x-axis: ``y → −y``, angles ``θ → −θ``, wall normals ``(a, b) → (a, −b)``, the
-        vessel's points reflected."""
+        vessel's points reflected, rest curvatures negated (a J-tip becomes its mirror image)."""
 
         def flip(p: tuple[float, float] | None) -> tuple[float, float] | None:
             return None if p is None else (p[0], -p[1])
@@ -451,7 +451,11 @@ class Scene:
         walls = tuple(Wall((w.normal[0], -w.normal[1]), w.offset) for w in self.walls)
         name = f"{self.name} (mirrored)" if self.name else ""
         vessel = None if self.vessel is None else self.vessel.mirrored()
-        return replace(self, base=base, contacts=contacts, walls=walls, name=name, vessel=vessel)
+        wire = self.wire
+        if any(sec.rest_curvature for sec in wire.sections):  # the other J
+            wire = replace(wire, sections=tuple(replace(sec, rest_curvature=-sec.rest_curvature)
+                                                for sec in wire.sections))
+        return replace(self, wire=wire, base=base, contacts=contacts, walls=walls, name=name, vessel=vessel)
 
     def rotated(self, angle: float, center: tuple[float, float] = (0.0, 0.0)) -> Scene:
         """The scene turned counter-clockwise by ``angle`` (rad) about ``center``: points rotate, tangent angles

@@ -237,3 +237,11 @@ def test_second_order_convergence_on_a_graded_sectioned_layout():
         steps = np.linalg.norm(np.diff(values, axis=0).reshape(3, -1), axis=1)
         order = np.log2(steps[:-1] / steps[1:])
         assert np.all((order > 1.8) & (order < 2.2)), order
+
+
+def test_the_mirrored_j_tip_scene_gives_the_mirrored_shape():
+    scene = load_scene(scene_path("j_tip"))
+    sol, mirror = solve(scene), solve(scene.mirrored())
+    assert mirror.scene.wire.sections[0].rest_curvature == -scene.wire.sections[0].rest_curvature
+    assert mirror.success and mirror.energy == pytest.approx(sol.energy, rel=1e-9)
+    np.testing.assert_allclose(mirror.nodes, sol.nodes * [1.0, -1.0], atol=1e-8)

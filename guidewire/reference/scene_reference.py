@@ -58,10 +58,13 @@ def continuum_reference(scene: Scene) -> tuple[ContinuumReference | None, str]:
     -------
     reference : ContinuumReference or None
         ``None`` when the reference does not cover the scene (e.g. position-only contacts, a free base angle,
-        walls active together with contacts) or the scene is infeasible.
+        walls active together with contacts, a wire with sections) or the scene is infeasible.
     reason : str
         ``""`` with a reference, else ``"no reference: "`` and the reason.
     """
+    if scene.wire.sections:
+        return None, ("no reference: the continuum reference is for a uniform, straight-at-rest wire, and this wire "
+                      "has sections (wire.sections)")
     try:
         shapes = reference_shapes(
             scene.base.point, scene.base.angle, scene.contacts, scene.wire.length, scene.wire.bending_stiffness,

@@ -245,3 +245,12 @@ def test_the_mirrored_j_tip_scene_gives_the_mirrored_shape():
     assert mirror.scene.wire.sections[0].rest_curvature == -scene.wire.sections[0].rest_curvature
     assert mirror.success and mirror.energy == pytest.approx(sol.energy, rel=1e-9)
     np.testing.assert_allclose(mirror.nodes, sol.nodes * [1.0, -1.0], atol=1e-8)
+
+
+def test_the_uniform_continuum_reference_declines_a_sectioned_wire():
+    from guidewire.reference import continuum_reference
+
+    scene = paper_scenes()["table1_pi_4"]
+    assert continuum_reference(scene)[0] is not None
+    reference, why = continuum_reference(scene.with_wire(sections=(Section(20.0, youngs_modulus=1000.0),)))
+    assert reference is None and "sections" in why

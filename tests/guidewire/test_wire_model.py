@@ -254,3 +254,12 @@ def test_the_uniform_continuum_reference_declines_a_sectioned_wire():
     assert continuum_reference(scene)[0] is not None
     reference, why = continuum_reference(scene.with_wire(sections=(Section(20.0, youngs_modulus=1000.0),)))
     assert reference is None and "sections" in why
+
+
+def test_entrance_force_is_de_dl_for_the_j_tip_pushed_in_with_its_sections():
+    """Inserting further adds shaft at the base while the J moves with the tip: dE/dL from finite differences of
+    solves (the sections anchored at the tip) equals the entrance force from the base reaction."""
+    scene = load_scene(scene_path("j_tip")).with_bars(240)
+    h = 0.05
+    low, high = (solve(scene.with_wire(length=60.0 + d)).energy for d in (-h, h))
+    assert solve(scene).entrance_force() == pytest.approx((high - low) / (2 * h), rel=1e-4)

@@ -125,6 +125,8 @@ class Solution:
     multipliers : tuple of ndarray
         Their multipliers, one array per block (:mod:`guidewire.blocks.base` sign convention), for warm starts
         (``solve(multipliers0=solution)``).
+    error_estimate_mm : float or None
+        Estimated mean node error (mm) when solved with ``tol_mm`` (:mod:`guidewire.refine`), else None.
     """
 
     scene: Scene
@@ -151,6 +153,7 @@ class Solution:
     fallback: str | None = None
     blocks: tuple[Block, ...] = ()
     multipliers: tuple[FloatArray, ...] = ()
+    error_estimate_mm: float | None = None
 
     @property
     def scheme(self) -> str:
@@ -239,6 +242,7 @@ class Solution:
             "contacts": self.contacts(), "tip": {"point": self.nodes[-1].tolist(),
                                                  "angle": float(self.tangent_angles[-1])},
             "entrance_force_n": self.entrance_force(), "axial_force_n": self.axial_force(),
+            **({} if self.error_estimate_mm is None else {"error_estimate_mm": self.error_estimate_mm}),
         }
 
 

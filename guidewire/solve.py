@@ -63,6 +63,7 @@ def solve(
     tol: float = 1e-8,
     max_iter: int = 500,
     verbose: bool = False,
+    tol_mm: float | None = None,
 ) -> Solution:
     """Find the minimum-bending-energy shape of the wire in ``scene`` (paper §2.3) with :func:`sqp.minimize`.
 
@@ -92,6 +93,9 @@ def solve(
         qpsolvers backend, or None/"auto" (default) for :func:`sqp.minimize`'s choice by the program's structure.
     qp_options, tol, max_iter, verbose
         Passed to :func:`sqp.minimize`.
+    tol_mm : float, optional
+        Solve to this estimated mean node error (mm) instead of with ``bars``: doubled layouts and a Richardson
+        estimate (:func:`guidewire.refine.solve_to_tolerance`); the answer carries ``error_estimate_mm``.
 
     Returns
     -------
@@ -111,6 +115,14 @@ def solve(
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene is {type(scene).__name__}; expected guidewire.Scene (see guidewire.load_scene).")
+    if tol_mm is not None:
+        if any(v is not None for v in (bars, initial_angles, initial_nodes, multipliers0)):
+            raise ValueError("tol_mm chooses the bars and the starts; do not pass bars, initial_angles, initial_nodes "
+                             "or multipliers0 with it.")
+        from .refine import solve_to_tolerance
+
+        return solve_to_tolerance(scene, tol_mm, scheme=scheme, hessian=hessian, layout=layout, qp_solver=qp_solver,
+                                  qp_options=qp_options, tol=tol, max_iter=max_iter, verbose=verbose)
     if hessian not in ("exact", "bfgs"):
         raise ValueError(f"hessian is {hessian!r}; expected 'exact' or 'bfgs'.")
     if layout not in ("auto", *LAYOUTS):

@@ -120,6 +120,8 @@ def build_parser() -> argparse.ArgumentParser:
                      "from the extension; needs matplotlib)")
     run.add_argument("--bars", type=_positive_int, help="number of bars (default: the file's)")
     run.add_argument("--scheme", choices=SCHEMES, help="energy discretisation (default: the file's)")
+    run.add_argument("--tol-mm", type=float, help="solve to this estimated mean node error (mm) by doubling the "
+                     "bars (instead of --bars); the JSON reports error_estimate_mm")
     _add_qp_solver(run)
     run.add_argument("--max-iter", type=_positive_int, default=500, help="SQP iteration limit")
     run.add_argument("--tol", type=float, default=1e-8, help="SQP tolerance")
@@ -235,10 +237,13 @@ def _solve(args: argparse.Namespace) -> int:
     scene = _load(args.scene)
     try:
         sol = solve(scene, scheme=args.scheme, bars=args.bars, qp_solver=_qp_solver(args), tol=args.tol,
-                    max_iter=args.max_iter, verbose=args.verbose)
+                    max_iter=args.max_iter, verbose=args.verbose, tol_mm=args.tol_mm)
     except (ValueError, TypeError) as exc:
         raise BadInput(f"{args.scene}: {exc}") from None
     print(_summary(sol))
+    if sol.error_estimate_mm is not None:
+        print(f"estimated mean node error {sol.error_estimate_mm:.3g} mm with {sol.n_bars} bars "
+              f"({sol.solve_time_s * 1e3:.1f} ms in all)")
     if args.json is not None:
         args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps(sol.to_dict(), indent=1))

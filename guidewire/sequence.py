@@ -101,6 +101,8 @@ def _scene_parameters(scene: Scene) -> tuple[tuple[Any, ...], Any]:
         values += [c.s, *(c.point or ())] + ([] if c.angle is None else [c.angle])
     for w in scene.walls:
         values += [*w.normal, w.offset]
+    key += [(sec.youngs_modulus, sec.diameter, sec.moment_of_inertia) for sec in scene.wire.sections]
+    values += [v for sec in scene.wire.sections for v in (sec.length, sec.rest_curvature)]
     return tuple(key), np.asarray(values, dtype=float)
 
 

@@ -222,10 +222,16 @@ def _anchors(scene: Scene, contact_nodes: NDArray[np.int_]) -> list[tuple[float,
     return out
 
 
+def _rest_curved(scene: Scene) -> bool:
+    """Whether a section of the wire has a rest curvature: then b₂ bounds the bend away from the rest shape, which
+    the b₂ checks here do not model, so they are skipped (no false refusals; the solver still enforces b₂)."""
+    return any(sec.rest_curvature != 0.0 for sec in scene.wire.sections)
+
+
 def turning(scene: Scene) -> str | None:
     """Two prescribed tangents further apart in angle than b₂ per joint allows."""
     b2 = scene.wire.max_relative_angle
-    if b2 is None:
+    if b2 is None or _rest_curved(scene):
         return None
     _, nodes = _bars(scene)
     anchors = _anchors(scene, nodes)
@@ -261,7 +267,7 @@ def discrete_reach(scene: Scene) -> str | None:
     n = scene.wire.bars
     lengths, nodes = _bars(scene)
     anchors = _anchors(scene, nodes)
-    b2 = math.inf if scene.wire.max_relative_angle is None else scene.wire.max_relative_angle
+    b2 = math.inf if scene.wire.max_relative_angle is None or _rest_curved(scene) else scene.wire.max_relative_angle
     total = float(scene.wire.length)
     points = _positions(scene)
     node_of = {-1: 0, **{i: int(k) for i, k in enumerate(nodes)}}

@@ -123,7 +123,8 @@ class Wire:
     moment_of_inertia : float or None
         Second moment of area ``I`` in mm⁴; the paper's measured 1.816e-14 m⁴ is 0.01816 mm⁴.
     max_relative_angle : float or None
-        The paper's ``b₂`` (Eq. 19): ``|Δθ| ≤ b₂`` at every joint, in rad. None (default) adds no such rows.
+        The paper's ``b₂`` (Eq. 19): ``|Δθ| ≤ b₂`` at every joint, in rad. None (default) adds no such rows. With a
+        rest curvature it bounds the bend away from the rest shape, ``|Δθ − Δθ⁰| ≤ b₂``.
     scheme : {"second_order", "paper"}
         Discretisation of the bending energy (see :mod:`guidewire.formulation`).
     sections : sequence of Section

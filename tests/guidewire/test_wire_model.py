@@ -263,3 +263,16 @@ def test_entrance_force_is_de_dl_for_the_j_tip_pushed_in_with_its_sections():
     h = 0.05
     low, high = (solve(scene.with_wire(length=60.0 + d)).energy for d in (-h, h))
     assert solve(scene).entrance_force() == pytest.approx((high - low) / (2 * h), rel=1e-4)
+
+
+def test_b2_bounds_the_bend_away_from_the_rest_shape():
+    """A J turns 1/12.1 rad per mm at rest; b₂ = 0.01 rad per 1 mm joint still lets the free J rest in its J (b₂
+    bounds Δθ − Δθ⁰), and a wall that flattens it keeps every joint's bend within b₂."""
+    wire = j_wire()
+    wire = Wire(wire.length, wire.bars, **SHAFT, max_relative_angle=0.01, sections=wire.sections)
+    free = solve(Scene(wire, Base((0.0, 0.0), 0.0)))
+    assert free.success and free.energy < 1e-20
+    assert np.max(free.relative_angles) > 0.08  # the J's own turn per joint, far above b₂
+    pressed = solve(Scene(wire, Base((0.0, 0.0), 0.0), walls=(Wall((0.0, 1.0), 7.0),)))
+    assert pressed.success and pressed.nodes[:, 1].max() <= 7.0 + 1e-7
+    assert np.max(pressed.paper_stress_measure) <= 0.01 + 1e-7  # |Δθ − Δθ⁰| per node

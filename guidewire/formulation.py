@@ -75,8 +75,8 @@ def _curvature_term(chain: Any, phi: FloatArray, nodes: IntArray, weighted: Floa
     np.add.at(acc, nodes, weighted)
     suffix = np.cumsum(acc[::-1], axis=0)[::-1][1:]  # row j (bar j+1): rows at nodes ≥ j+1
     e = chain.lengths[:, None] * np.column_stack((-np.sin(phi), np.cos(phi)))
-    left = np.einsum("ia,jab->ijb", e, suffix)  # e_iᵀ S_j, (n, n, 2)
-    upper = np.einsum("ijb,jb->ij", left, e)  # e_iᵀ S_j e_j: right for j ≥ i
+    w = np.einsum("jab,jb->ja", suffix, e)  # S_j e_j, (n, 2): O(n)
+    upper = e @ w.T  # e_iᵀ S_j e_j, one (n × 2)(2 × n) product: right for j ≥ i
     return np.triu(upper) + np.triu(upper, 1).T
 
 

@@ -311,7 +311,7 @@ class _Tubes:
         interval's arc length of one of them); a continuation of finite reach by disks about pieces of
         :data:`HULL_SAMPLES` spacings. An infinite continuation (a wall's) gets none: :meth:`upper_bound` is then
         not a bound, and only tubes use it."""
-        centres, radii, owner = [], [], []
+        centres, radii, owner, depth = [], [], [], []
         for k, c in enumerate(self.curves):
             ds = np.diff(c.s)
             for a in range(0, max(len(c.u) - 1, 1), HULL_SAMPLES):
@@ -321,6 +321,7 @@ class _Tubes:
                 centres.append(mid)
                 radii.append(reach + 0.5 * float(np.max(ds[a:b], initial=0.0)))
                 owner.append(k)
+                depth.append(float(c.radius[(a + b) // 2]))
             for is_open, point, direction, sign in ((self.head_open[k], self.head_point[k], self.head_tangent[k], -1.0),
                                                     (self.tail_open[k], self.tail_point[k], self.tail_tangent[k], 1.0)):
                 if not is_open or not math.isfinite(self.reach[k]):
@@ -331,12 +332,21 @@ class _Tubes:
                     centres.append(point + sign * (j + 0.5) * piece * direction)
                     radii.append(0.5 * piece)
                     owner.append(k)
+                    depth.append(float(self.tail_radius[k] if sign > 0 else self.head_radius[k]))
         self.hull_centre = np.array(centres)
         self.hull_radius = np.array(radii)
         self.hull_curve = np.array(owner, dtype=np.intp)
+        self.hull_depth = np.array(depth)  # the tube's radius at each disk's centre (a point of the tube's axis)
         self.hull_start = np.searchsorted(self.hull_curve, np.arange(len(self.curves)))
         self.rmax = np.array([max(float(np.max(c.radius)), float(self.head_radius[k]), float(self.tail_radius[k]))
                               for k, c in enumerate(self.curves)])
+
+    def lower_bound(self, p: FloatArray) -> FloatArray:
+        """A lower bound, shape (m,), of the largest signed distance ``R − |p − c|`` of every point to any tube: its
+        value at the best of the hull disks' centres (each a point of a tube's axis)."""
+        dx = p[:, None, 0] - self.hull_centre[None, :, 0]
+        dy = p[:, None, 1] - self.hull_centre[None, :, 1]
+        return np.max(self.hull_depth - np.sqrt(dx * dx + dy * dy), axis=1)
 
     def upper_bound(self, p: FloatArray) -> FloatArray:
         """An upper bound, shape (m, T), of the signed distance ``max R − |p − c|`` of every point to every tube
@@ -764,10 +774,19 @@ class _TubeGeometry:
 
     def past_end(self, p: FloatArray) -> NDArray[np.bool_]:
         tubes = self.tubes
-        # only a point beyond some tube's far end plane can be in its straight continuation
-        beyond = np.einsum("mkj,kj->mk", p[:, None, :] - tubes.tail_point[None], tubes.tail_tangent) > 0.0
+        # only a point beyond some tube's far end plane can be in its straight continuation, and a point inside the
+        # lumen (lower_bound ≥ 0, where the closest-point search is exact) only where that continuation's signed
+        # distance can reach the largest one; a point outside is searched whenever it is beyond a plane
         out = np.zeros(len(p), dtype=bool)
-        candidates = np.flatnonzero(beyond.any(axis=1))
+        lam = np.einsum("mkj,kj->mk", p[:, None, :] - tubes.tail_point[None], tubes.tail_tangent)
+        beyond = lam > 0.0
+        if not beyond.any():
+            return out
+        foot = tubes.tail_point + np.minimum(lam, tubes.reach)[:, :, None] * tubes.tail_tangent
+        reach = tubes.tail_radius - np.hypot(*(p[:, None, :] - foot).transpose(2, 0, 1))
+        lower = tubes.lower_bound(p)
+        floor = np.where(lower >= 0.0, lower - 1e-9 * max(1.0, float(tubes.rmax.max())), -np.inf)
+        candidates = np.flatnonzero((beyond & (reach >= floor[:, None])).any(axis=1))
         if candidates.size:
             best, flat = self.best(p[candidates])
             out[candidates] = np.isin(best["source"][flat], (2, 3))

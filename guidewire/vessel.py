@@ -581,14 +581,12 @@ class Vessel:
     @property
     def entrance_point(self) -> tuple[float, float]:
         """The entrance (mm): the centreline's first point, or the midpoint of the walls' first points."""
-        p, _ = self.path(np.zeros(1))
-        return (float(p[0, 0]), float(p[0, 1]))
+        return self._geometry.entrance[0]
 
     @property
     def entrance_angle(self) -> float:
         """Tangent angle (rad) of the centreline at the entrance, pointing into the vessel."""
-        _, a = self.path(np.zeros(1))
-        return float(a[0])
+        return self._geometry.entrance[1]
 
     @property
     def length(self) -> float:
@@ -728,6 +726,7 @@ class _TubeGeometry:
         self.main = curves[0]
         self.centre_curves = curves
         self.answers = _Memo()
+        self.entrance = _entrance(self.main)
         # the entrance is capped (the first disk); branch junctions too (they lie inside the parent); far ends open
         reach = [max(TAIL_REACH, TAIL_REACH_RADII * float(c.radius[-1])) for c in curves]
         self.tubes = _Tubes(curves, head_open=[False] * len(curves), tail_open=[True] * len(curves), reach=reach)
@@ -841,6 +840,12 @@ def _path(curve: _Curve, s: FloatArray) -> tuple[FloatArray, FloatArray]:
     return points, angle
 
 
+def _entrance(curve: _Curve) -> tuple[tuple[float, float], float]:
+    """The entrance point (mm) and tangent angle (rad) of a main centreline (built once: a vessel never changes)."""
+    p, a = _path(curve, np.zeros(1))
+    return (float(p[0, 0]), float(p[0, 1])), float(a[0])
+
+
 def _check_bend(curve: _Curve, points: FloatArray, name: str) -> None:
     """Refuse a tube that overlaps itself: a bend tighter than the radius, or two stretches closer than their radii."""
     bend = np.abs(curve.kappa) * curve.radius
@@ -909,6 +914,7 @@ class _WallGeometry:
         self.main = _Curve(mid[keep], half[keep], spacing=SAMPLE_SPACING)
         self.centre_curves = [self.main]
         self.answers = _Memo()
+        self.entrance = _entrance(self.main)
 
     def clearance(self, p: FloatArray) -> Clearance:
         tubes = self.tubes

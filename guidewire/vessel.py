@@ -356,8 +356,9 @@ class _Tubes:
         gap = np.sqrt(dx * dx + dy * dy) - self.hull_radius
         return self.rmax - np.minimum.reduceat(gap, self.hull_start, axis=1)
 
-    def evaluate(self, u: FloatArray, k: NDArray[np.intp]) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """Value, first and second ``u``-derivatives of (x, y, R) of curve ``k`` at ``u``, each shape (m, 3)."""
+    def evaluate(self, u: FloatArray, k: NDArray[np.intp] | int) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Value, first and second ``u``-derivatives of (x, y, R) of curve ``k`` (one per value, or one for all) at
+        ``u``, each shape (m, 3)."""
         j = np.minimum(np.maximum(np.searchsorted(self.breaks, u, side="right") - 1, self.first_seg[k]),
                        self.last_seg[k])
         x = (u - self.breaks[j])[:, None]
@@ -386,6 +387,9 @@ class _Tubes:
                 u = self.curves[i].u[tree.query(q)[1]] + self.offsets[i]
             elif mine.any():
                 u[mine] = self.curves[i].u[tree.query(q[mine])[1]] + self.offsets[i]
+        pairs = k
+        if len(k) and np.all(k == k[0]):
+            k = int(k[0])  # one curve: its data as scalars, broadcast (the same arithmetic, fewer gathers)
         lo, hi, h = self.lo[k], self.hi[k], self.h[k]
         for step_number in range(NEWTON_STEPS + 1):
             value, d1, d2 = self.evaluate(u, k)
@@ -413,7 +417,7 @@ class _Tubes:
         ):
             if not is_open.any():
                 continue
-            lam = np.einsum("ij,ij->i", q - point[k], direction[k])
+            lam = np.einsum("ij,ij->i", q - point[k], np.broadcast_to(direction[k], q.shape))
             past = is_open[k] & (sign * lam > 0.0)
             if not past.any():
                 continue
@@ -428,8 +432,8 @@ class _Tubes:
             kappa = np.where(better, 0.0, kappa)
             source = np.where(better, np.where(capped, 3, end), source)
         v = q - centre
-        return {"u": u, "k": k, "centre": centre, "radius": radius, "v": v, "r": np.hypot(v[:, 0], v[:, 1]),
-                "source": source, "t": tangent, "kappa": kappa}
+        return {"u": u, "k": pairs, "centre": centre, "radius": radius, "v": v,
+                "r": np.hypot(v[:, 0], v[:, 1]), "source": source, "t": tangent, "kappa": kappa}
 
     def envelope(self, u: FloatArray, k: NDArray[np.intp], side: FloatArray) -> FloatArray:
         """Boundary points ``c + R e`` of tube ``k`` at ``u`` on ``side`` (+1 left, −1 right), where ``e`` makes the

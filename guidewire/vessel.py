@@ -689,28 +689,42 @@ MEMO_SIZE = 4
 
 
 class _Memo:
-    """The last :data:`MEMO_SIZE` answers of a pure function of an array of points, keyed by the points' exact bytes
-    (and shape). It belongs to one vessel's geometry, which never changes, so an answer can never be stale; the
-    answer's arrays are made read-only, since every caller shares them. Thread-safe."""
+    """The last :data:`MEMO_SIZE` answers (least recently used dropped first) of :meth:`Vessel.clearance`, keyed by
+    the points' exact bytes (and shape). It belongs to one vessel's geometry, which never changes, so an answer can
+    never be stale; the answer's arrays are made read-only, since every caller shares them. Thread-safe.
+
+    Every point's answer depends on that point alone (the closest-point search is elementwise), so points that begin
+    with a kept query's points — an insertion step starts from the previous answer with bars added at the tip — reuse
+    its answer for those rows and compute only the rest."""
 
     def __init__(self) -> None:
-        self._answers: dict[tuple[tuple[int, ...], bytes], Any] = {}
+        self._answers: dict[tuple[tuple[int, ...], bytes], tuple[FloatArray, Clearance]] = {}
         self._lock = threading.Lock()
 
-    def get(self, points: FloatArray, compute: Any) -> Any:
+    def get(self, points: FloatArray, compute: Any) -> Clearance:
         key = (points.shape, points.tobytes())
         with self._lock:
-            hit = self._answers.get(key)
-        if hit is not None:
-            return hit
-        out = compute(points)
-        for value in vars(out).values():
-            if isinstance(value, np.ndarray):
-                value.flags.writeable = False
+            hit = self._answers.pop(key, None)
+            if hit is not None:
+                self._answers[key] = hit  # now the most recently used
+                return hit[1]
+            prefix = max(((p, c) for p, c in self._answers.values()
+                          if 0 < len(p) < len(points) and np.array_equal(p, points[:len(p)])),
+                         key=lambda pc: len(pc[0]), default=None)
+        if prefix is None:
+            out = compute(points)
+        else:
+            known, rest = prefix[1], compute(points[len(prefix[0]):])
+            out = Clearance(**{name: np.concatenate((getattr(known, name), getattr(rest, name)))
+                               for name in ("distance", "normal", "boundary", "curvature")})
+        for value in (out.distance, out.normal, out.boundary, out.curvature):
+            value.flags.writeable = False
+        kept = points.copy()
+        kept.flags.writeable = False
         with self._lock:
-            if len(self._answers) >= MEMO_SIZE:
+            while len(self._answers) >= MEMO_SIZE:
                 del self._answers[next(iter(self._answers))]
-            self._answers[key] = out
+            self._answers[key] = (kept, out)
         return out
 
 

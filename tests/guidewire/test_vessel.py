@@ -340,3 +340,16 @@ def test_clearance_answers_are_kept_read_only_and_exact():
     assert len(vessel._geometry.answers._answers) <= 4
     again = Vessel.from_centreline(vessel.centreline, vessel.radius, vessel.branches)
     np.testing.assert_array_equal(again.clearance(p).distance, first.distance)  # a new vessel computes its own
+
+
+def test_clearance_of_points_extending_a_kept_query_equals_a_fresh_one():
+    scene = load_scene(VESSELS / "aortic_arch.toml")
+    vessel, fresh = scene.vessel, Vessel.from_centreline(scene.vessel.centreline, scene.vessel.radius,
+                                                         scene.vessel.branches)
+    rng = np.random.default_rng(11)
+    p = _inside(vessel, rng, 60, (-60.0, 40.0, 0.0, 220.0))
+    vessel.clearance(p[:40])
+    longer = vessel.clearance(p)  # the first 40 rows kept, 20 computed
+    direct = fresh.clearance(p)
+    for name in ("distance", "normal", "boundary", "curvature"):
+        np.testing.assert_array_equal(getattr(longer, name), getattr(direct, name), err_msg=name)

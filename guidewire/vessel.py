@@ -19,6 +19,9 @@ Units mm and rad throughout. Two ways to give a lumen:
 :meth:`Vessel.clearance` answers, for many points at once, the signed distance, the outward normal, the nearest
 boundary point and the boundary's curvature there (see :class:`Clearance`). The closest centreline parameter is found
 by a k-d tree on a fine sampling cached at construction and polished by Newton steps on the spline, all vectorised.
+A branch is searched only for the points a cheap bound says it could be nearer than the main tube for
+(:meth:`_TubeGeometry.best`: the same answer as searching every tube), and a vessel keeps its last few answers
+(:class:`_Memo`, exact: keyed by the points' coordinates; a vessel never changes).
 
 Only 2-D is built; the data model (tuples of coordinates) admits any dimension so that 3-D can follow.
 """

@@ -75,9 +75,10 @@ def _curvature_term(chain: Any, phi: FloatArray, nodes: IntArray, weighted: Floa
     np.add.at(acc, nodes, weighted)
     suffix = np.cumsum(acc[::-1], axis=0)[::-1][1:]  # row j (bar j+1): rows at nodes ≥ j+1
     e = chain.lengths[:, None] * np.column_stack((-np.sin(phi), np.cos(phi)))
-    left = np.einsum("ia,jab->ijb", e, suffix)  # e_iᵀ S_j, (n, n, 2)
-    upper = np.einsum("ijb,jb->ij", left, e)  # e_iᵀ S_j e_j: right for j ≥ i
-    return np.triu(upper) + np.triu(upper, 1).T
+    w = np.einsum("jab,jb->ja", suffix, e)  # S_j e_j, (n, 2): O(n)
+    upper = e @ w.T  # e_iᵀ S_j e_j, one (n × 2)(2 × n) product: right for j ≥ i
+    index = np.arange(n)
+    return np.where(index[:, None] <= index[None, :], upper, upper.T)
 
 
 @dataclass(frozen=True)
@@ -114,12 +115,20 @@ class ReducedLayout:
         chain = self.model.chain
         k = rows.nodes
         mask = np.arange(chain.n_bars)[None, :] < k[:, None]  # bar j+1 ≤ node k
+        last: list[Any] = [(None, None)]  # (a copy of φ, its nodes): the value, Jacobian and Hessian share a point
+
+        def nodes(phi: FloatArray) -> FloatArray:
+            seen, points = last[0]
+            if seen is None or not np.array_equal(seen, phi):
+                points = chain.nodes(phi)
+                last[0] = (np.array(phi, dtype=float), points)
+            return points
 
         def value(phi: FloatArray) -> FloatArray:
-            return rows.values(chain.nodes(phi))
+            return rows.values(nodes(phi))
 
         def jac(phi: FloatArray) -> FloatArray:
-            d = rows.gradients(chain.nodes(phi)) if not rows.linear else rows.directions
+            d = rows.gradients(nodes(phi)) if not rows.linear else rows.directions
             sin, cos = chain.lengths * np.sin(phi), chain.lengths * np.cos(phi)
             return mask * (d[:, 0:1] * -sin[None, :] + d[:, 1:2] * cos[None, :])
 
@@ -127,7 +136,7 @@ class ReducedLayout:
             v = np.asarray(v, dtype=float)
             if rows.linear:
                 return _diagonal(chain.node_hessian_diagonal(phi, k, v[:, None] * rows.directions))
-            d = rows.gradients(chain.nodes(phi))
+            d = rows.gradients(nodes(phi))
             out = _curvature_term(chain, phi, k, v[:, None, None] * rows.hessians)
             out[np.diag_indices_from(out)] += chain.node_hessian_diagonal(phi, k, v[:, None] * d)
             return out

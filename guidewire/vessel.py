@@ -19,6 +19,9 @@ Units mm and rad throughout. Two ways to give a lumen:
 :meth:`Vessel.clearance` answers, for many points at once, the signed distance, the outward normal, the nearest
 boundary point and the boundary's curvature there (see :class:`Clearance`). The closest centreline parameter is found
 by a k-d tree on a fine sampling cached at construction and polished by Newton steps on the spline, all vectorised.
+A branch is searched only for the points a cheap bound says it could be nearer than the main tube for
+(:meth:`_TubeGeometry.best`: the same answer as searching every tube), and a vessel keeps its last few answers
+(:class:`_Memo`, exact: keyed by the points' coordinates; a vessel never changes).
 
 Only 2-D is built; the data model (tuples of coordinates) admits any dimension so that 3-D can follow.
 """
@@ -27,6 +30,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import threading
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -57,6 +61,9 @@ into another part of the tree."""
 
 TAIL_REACH_RADII = 4.0
 """The tube's straight continuation reaches at least this many end radii (see :data:`TAIL_REACH`)."""
+
+HULL_SAMPLES = 16
+"""Samples per covering disk of the bound that lets :meth:`Vessel.clearance` skip the tubes a point is far from."""
 
 BEND_LIMIT = 1.0
 """A tube whose centreline curvature times radius reaches this anywhere overlaps itself there (refused)."""
@@ -295,9 +302,66 @@ class _Tubes:
         self.tail_point = np.array([v[0, :2] for v, _, _ in tails])
         self.tail_tangent = np.array([d[0, :2] / np.hypot(*d[0, :2]) for _, d, _ in tails])
         self.tail_radius = np.array([v[0, 2] for v, _, _ in tails])
+        self._build_hulls()
 
-    def evaluate(self, u: FloatArray, k: NDArray[np.intp]) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """Value, first and second ``u``-derivatives of (x, y, R) of curve ``k`` at ``u``, each shape (m, 3)."""
+    def _build_hulls(self) -> None:
+        """Disks that together cover each curve and its finite straight continuations (``hull_centre``,
+        ``hull_radius``, ``hull_curve``; grouped by curve, from ``hull_start[k]``) and each curve's largest radius
+        ``rmax``: a lower bound of the distance to curve ``k`` for :meth:`upper_bound`.
+
+        A run of :data:`HULL_SAMPLES` samples is covered by the disk about its middle sample reaching its farthest
+        sample plus half its longest sample interval (a point of the curve between two samples lies within half that
+        interval's arc length of one of them); a continuation of finite reach by disks about pieces of
+        :data:`HULL_SAMPLES` spacings. An infinite continuation (a wall's) gets none: :meth:`upper_bound` is then
+        not a bound, and only tubes use it."""
+        centres, radii, owner, depth = [], [], [], []
+        for k, c in enumerate(self.curves):
+            ds = np.diff(c.s)
+            for a in range(0, max(len(c.u) - 1, 1), HULL_SAMPLES):
+                b = min(a + HULL_SAMPLES, len(c.u) - 1)
+                mid = c.samples[(a + b) // 2]
+                reach = float(np.max(np.hypot(*(c.samples[a:b + 1] - mid).T)))
+                centres.append(mid)
+                radii.append(reach + 0.5 * float(np.max(ds[a:b], initial=0.0)))
+                owner.append(k)
+                depth.append(float(c.radius[(a + b) // 2]))
+            for is_open, point, direction, sign in ((self.head_open[k], self.head_point[k], self.head_tangent[k], -1.0),
+                                                    (self.tail_open[k], self.tail_point[k], self.tail_tangent[k], 1.0)):
+                if not is_open or not math.isfinite(self.reach[k]):
+                    continue
+                pieces = max(1, math.ceil(self.reach[k] / (HULL_SAMPLES * self.h[k])))
+                piece = self.reach[k] / pieces
+                for j in range(pieces):
+                    centres.append(point + sign * (j + 0.5) * piece * direction)
+                    radii.append(0.5 * piece)
+                    owner.append(k)
+                    depth.append(float(self.tail_radius[k] if sign > 0 else self.head_radius[k]))
+        self.hull_centre = np.array(centres)
+        self.hull_radius = np.array(radii)
+        self.hull_curve = np.array(owner, dtype=np.intp)
+        self.hull_depth = np.array(depth)  # the tube's radius at each disk's centre (a point of the tube's axis)
+        self.hull_start = np.searchsorted(self.hull_curve, np.arange(len(self.curves)))
+        self.rmax = np.array([max(float(np.max(c.radius)), float(self.head_radius[k]), float(self.tail_radius[k]))
+                              for k, c in enumerate(self.curves)])
+
+    def lower_bound(self, p: FloatArray) -> FloatArray:
+        """A lower bound, shape (m,), of the largest signed distance ``R − |p − c|`` of every point to any tube: its
+        value at the best of the hull disks' centres (each a point of a tube's axis)."""
+        dx = p[:, None, 0] - self.hull_centre[None, :, 0]
+        dy = p[:, None, 1] - self.hull_centre[None, :, 1]
+        return np.max(self.hull_depth - np.sqrt(dx * dx + dy * dy), axis=1)
+
+    def upper_bound(self, p: FloatArray) -> FloatArray:
+        """An upper bound, shape (m, T), of the signed distance ``max R − |p − c|`` of every point to every tube
+        (its largest radius minus a lower bound of the distance to its centreline and finite continuations)."""
+        dx = p[:, None, 0] - self.hull_centre[None, :, 0]
+        dy = p[:, None, 1] - self.hull_centre[None, :, 1]
+        gap = np.sqrt(dx * dx + dy * dy) - self.hull_radius
+        return self.rmax - np.minimum.reduceat(gap, self.hull_start, axis=1)
+
+    def evaluate(self, u: FloatArray, k: NDArray[np.intp] | int) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Value, first and second ``u``-derivatives of (x, y, R) of curve ``k`` (one per value, or one for all) at
+        ``u``, each shape (m, 3)."""
         j = np.minimum(np.maximum(np.searchsorted(self.breaks, u, side="right") - 1, self.first_seg[k]),
                        self.last_seg[k])
         x = (u - self.breaks[j])[:, None]
@@ -313,11 +377,22 @@ class _Tubes:
         ``t`` and signed curvature ``kappa`` there (0 on the straight continuations)."""
         m, t = len(p), len(self.curves)
         if t == 1:
-            u, k, q = self.curves[0].u[self.trees[0].query(p)[1]], np.zeros(m, dtype=np.intp), p
-        else:
-            u = np.concatenate([self.curves[i].u[tree.query(p)[1]] + self.offsets[i]
-                                for i, tree in enumerate(self.trees)])
-            k, q = np.repeat(np.arange(t), m), np.tile(p, (t, 1))
+            return self.closest_pairs(p, np.zeros(m, dtype=np.intp))
+        return self.closest_pairs(np.tile(p, (t, 1)), np.repeat(np.arange(t), m))
+
+    def closest_pairs(self, q: FloatArray, k: NDArray[np.intp]) -> dict[str, FloatArray]:
+        """:meth:`closest` for the pairs (point ``q[i]``, curve ``k[i]``) only (elementwise: the same answer for a
+        pair whichever others are asked with it)."""
+        u = np.empty(len(q))
+        for i, tree in enumerate(self.trees):
+            mine = k == i
+            if mine.all():
+                u = self.curves[i].u[tree.query(q)[1]] + self.offsets[i]
+            elif mine.any():
+                u[mine] = self.curves[i].u[tree.query(q[mine])[1]] + self.offsets[i]
+        pairs = k
+        if len(k) and np.all(k == k[0]):
+            k = int(k[0])  # one curve: its data as scalars, broadcast (the same arithmetic, fewer gathers)
         lo, hi, h = self.lo[k], self.hi[k], self.h[k]
         for step_number in range(NEWTON_STEPS + 1):
             value, d1, d2 = self.evaluate(u, k)
@@ -345,7 +420,7 @@ class _Tubes:
         ):
             if not is_open.any():
                 continue
-            lam = np.einsum("ij,ij->i", q - point[k], direction[k])
+            lam = np.einsum("ij,ij->i", q - point[k], np.broadcast_to(direction[k], q.shape))
             past = is_open[k] & (sign * lam > 0.0)
             if not past.any():
                 continue
@@ -360,8 +435,8 @@ class _Tubes:
             kappa = np.where(better, 0.0, kappa)
             source = np.where(better, np.where(capped, 3, end), source)
         v = q - centre
-        return {"u": u, "k": k, "centre": centre, "radius": radius, "v": v, "r": np.hypot(v[:, 0], v[:, 1]),
-                "source": source, "t": tangent, "kappa": kappa}
+        return {"u": u, "k": pairs, "centre": centre, "radius": radius, "v": v,
+                "r": np.hypot(v[:, 0], v[:, 1]), "source": source, "t": tangent, "kappa": kappa}
 
     def envelope(self, u: FloatArray, k: NDArray[np.intp], side: FloatArray) -> FloatArray:
         """Boundary points ``c + R e`` of tube ``k`` at ``u`` on ``side`` (+1 left, −1 right), where ``e`` makes the
@@ -513,14 +588,12 @@ class Vessel:
     @property
     def entrance_point(self) -> tuple[float, float]:
         """The entrance (mm): the centreline's first point, or the midpoint of the walls' first points."""
-        p, _ = self.path(np.zeros(1))
-        return (float(p[0, 0]), float(p[0, 1]))
+        return self._geometry.entrance[0]
 
     @property
     def entrance_angle(self) -> float:
         """Tangent angle (rad) of the centreline at the entrance, pointing into the vessel."""
-        _, a = self.path(np.zeros(1))
-        return float(a[0])
+        return self._geometry.entrance[1]
 
     @property
     def length(self) -> float:
@@ -538,10 +611,13 @@ class Vessel:
         Returns
         -------
         Clearance
-            Arrays of length m (see :class:`Clearance`); ``distance > 0`` inside the lumen.
+            Arrays of length m (see :class:`Clearance`); ``distance > 0`` inside the lumen. Read-only: the last
+            :data:`MEMO_SIZE` answers are kept (keyed by the exact coordinates; the vessel never changes), so the same
+            points asked again — a solve asks at its start, at its answer and when checking that answer, an insertion
+            step at the same base every step — are answered without work.
         """
         p = np.asarray(points, dtype=float).reshape(-1, 2)
-        return self._geometry.clearance(p)
+        return self._geometry.answers.get(p, self._geometry.clearance)
 
     def past_end(self, points: ArrayLike) -> NDArray[np.bool_]:
         """Whether each point lies beyond a tube's far end (in the straight continuation that lets a tip leave the
@@ -611,6 +687,50 @@ def _named(build: Any, old: str, new: str) -> Any:
 
 
 # ----------------------------------------------------------------------------------------------------------------
+MEMO_SIZE = 4
+"""Answers of :meth:`Vessel.clearance` a vessel keeps (see :class:`_Memo`)."""
+
+
+class _Memo:
+    """The last :data:`MEMO_SIZE` answers (least recently used dropped first) of :meth:`Vessel.clearance`, keyed by
+    the points' exact bytes (and shape). It belongs to one vessel's geometry, which never changes, so an answer can
+    never be stale; the answer's arrays are made read-only, since every caller shares them. Thread-safe.
+
+    Every point's answer depends on that point alone (the closest-point search is elementwise), so points that begin
+    with a kept query's points — an insertion step starts from the previous answer with bars added at the tip — reuse
+    its answer for those rows and compute only the rest."""
+
+    def __init__(self) -> None:
+        self._answers: dict[tuple[tuple[int, ...], bytes], tuple[FloatArray, Clearance]] = {}
+        self._lock = threading.Lock()
+
+    def get(self, points: FloatArray, compute: Any) -> Clearance:
+        key = (points.shape, points.tobytes())
+        with self._lock:
+            hit = self._answers.pop(key, None)
+            if hit is not None:
+                self._answers[key] = hit  # now the most recently used
+                return hit[1]
+            prefix = max(((p, c) for p, c in self._answers.values()
+                          if 0 < len(p) < len(points) and np.array_equal(p, points[:len(p)])),
+                         key=lambda pc: len(pc[0]), default=None)
+        if prefix is None:
+            out = compute(points)
+        else:
+            known, rest = prefix[1], compute(points[len(prefix[0]):])
+            out = Clearance(**{name: np.concatenate((getattr(known, name), getattr(rest, name)))
+                               for name in ("distance", "normal", "boundary", "curvature")})
+        for value in (out.distance, out.normal, out.boundary, out.curvature):
+            value.flags.writeable = False
+        kept = points.copy()
+        kept.flags.writeable = False
+        with self._lock:
+            while len(self._answers) >= MEMO_SIZE:
+                del self._answers[next(iter(self._answers))]
+            self._answers[key] = (kept, out)
+        return out
+
+
 class _TubeGeometry:
     """The built geometry of a centreline vessel: the main tube and branches as one :class:`_Tubes`."""
 
@@ -626,6 +746,8 @@ class _TubeGeometry:
             curves.append(curve)
         self.main = curves[0]
         self.centre_curves = curves
+        self.answers = _Memo()
+        self.entrance = _entrance(self.main)
         # the entrance is capped (the first disk); branch junctions too (they lie inside the parent); far ends open
         reach = [max(TAIL_REACH, TAIL_REACH_RADII * float(c.radius[-1])) for c in curves]
         self.tubes = _Tubes(curves, head_open=[False] * len(curves), tail_open=[True] * len(curves), reach=reach)
@@ -642,21 +764,57 @@ class _TubeGeometry:
                         "main lumen; start each branch inside its parent (e.g. on the parent's centreline)."
                     )
 
-    def past_end(self, p: FloatArray) -> NDArray[np.bool_]:
+    def best(self, p: FloatArray) -> tuple[dict[str, FloatArray], NDArray[np.intp]]:
+        """The closest-point answers of :meth:`_Tubes.closest_pairs` and, per point, the index into them of the tube
+        with the largest signed distance (the first such tube on a tie, as ``argmax`` over all tubes).
+
+        The main tube is searched for every point; another tube only where :meth:`_Tubes.upper_bound` says it could
+        beat the main one (a point in the aorta far from a branch never searches the branch): the same answer as
+        searching every tube, at a fraction of the cost."""
         tubes = self.tubes
         m, t = len(p), len(tubes.curves)
-        best = tubes.closest(p)
-        flat = np.argmax((best["radius"] - best["r"]).reshape(t, m), axis=0) * m + np.arange(m)
-        return np.isin(best["source"][flat], (2, 3))
+        main = tubes.closest_pairs(p, np.zeros(m, dtype=np.intp))
+        if t == 1:
+            return main, np.arange(m)
+        depth = main["radius"] - main["r"]
+        bound = tubes.upper_bound(p)[:, 1:]
+        ii, kk = np.nonzero(bound.T >= depth[None, :] - 1e-9 * np.maximum(1.0, tubes.rmax[1:, None]))
+        if ii.size == 0:
+            return main, np.arange(m)
+        # ii: tube − 1 (k-major, as closest()); kk: point
+        other = tubes.closest_pairs(p[kk], ii + 1)
+        both = {name: np.concatenate((main[name], other[name])) for name in main}
+        value = np.full((t, m), -np.inf)
+        value[0] = depth
+        value[ii + 1, kk] = other["radius"] - other["r"]
+        where = np.zeros((t, m), dtype=np.intp)
+        where[0] = np.arange(m)
+        where[ii + 1, kk] = m + np.arange(ii.size)
+        return both, where[np.argmax(value, axis=0), np.arange(m)]
+
+    def past_end(self, p: FloatArray) -> NDArray[np.bool_]:
+        tubes = self.tubes
+        # only a point beyond some tube's far end plane can be in its straight continuation, and a point inside the
+        # lumen (lower_bound ≥ 0, where the closest-point search is exact) only where that continuation's signed
+        # distance can reach the largest one; a point outside is searched whenever it is beyond a plane
+        out = np.zeros(len(p), dtype=bool)
+        lam = np.einsum("mkj,kj->mk", p[:, None, :] - tubes.tail_point[None], tubes.tail_tangent)
+        beyond = lam > 0.0
+        if not beyond.any():
+            return out
+        foot = tubes.tail_point + np.minimum(lam, tubes.reach)[:, :, None] * tubes.tail_tangent
+        reach = tubes.tail_radius - np.hypot(*(p[:, None, :] - foot).transpose(2, 0, 1))
+        lower = tubes.lower_bound(p)
+        floor = np.where(lower >= 0.0, lower - 1e-9 * max(1.0, float(tubes.rmax.max())), -np.inf)
+        candidates = np.flatnonzero((beyond & (reach >= floor[:, None])).any(axis=1))
+        if candidates.size:
+            best, flat = self.best(p[candidates])
+            out[candidates] = np.isin(best["source"][flat], (2, 3))
+        return out
 
     def clearance(self, p: FloatArray) -> Clearance:
         tubes = self.tubes
-        m, t = len(p), len(tubes.curves)
-        best = tubes.closest(p)
-        if t == 1:
-            flat = np.arange(m)
-        else:
-            flat = np.argmax((best["radius"] - best["r"]).reshape(t, m), axis=0) * m + np.arange(m)
+        best, flat = self.best(p)
         u, k, source = best["u"][flat], best["k"][flat], best["source"][flat]
         v, r, radius, centre = best["v"][flat], best["r"][flat], best["radius"][flat], best["centre"][flat]
         tangent, kappa = best["t"][flat], best["kappa"][flat]
@@ -701,6 +859,12 @@ def _path(curve: _Curve, s: FloatArray) -> tuple[FloatArray, FloatArray]:
         if mask.any():
             points[mask] += extra[mask, None] * np.column_stack((np.cos(angle[mask]), np.sin(angle[mask])))
     return points, angle
+
+
+def _entrance(curve: _Curve) -> tuple[tuple[float, float], float]:
+    """The entrance point (mm) and tangent angle (rad) of a main centreline (built once: a vessel never changes)."""
+    p, a = _path(curve, np.zeros(1))
+    return (float(p[0, 0]), float(p[0, 1])), float(a[0])
 
 
 def _check_bend(curve: _Curve, points: FloatArray, name: str) -> None:
@@ -770,6 +934,8 @@ class _WallGeometry:
         half = 0.5 * np.hypot(*(pa - pb).T)
         self.main = _Curve(mid[keep], half[keep], spacing=SAMPLE_SPACING)
         self.centre_curves = [self.main]
+        self.answers = _Memo()
+        self.entrance = _entrance(self.main)
 
     def clearance(self, p: FloatArray) -> Clearance:
         tubes = self.tubes

@@ -48,21 +48,6 @@ TOUCHING_BARS = 0.1
 """A node within this many bar lengths of its row's bound touches it (only those rows need to be exact)."""
 
 
-_LAST: list[Any] = [None, None, None]
-"""The last :func:`_clearance` query (vessel, points bytes) and its answer: a solve asks twice at the same shape
-(refining the rows, then checking the answer), at ~1.5 ms a query on the four-tube arch."""
-
-
-def _clearance(vessel: Any, points: FloatArray) -> Any:
-    """``vessel.clearance(points)``, answered again without work for the same vessel and points."""
-    key = points.tobytes()
-    if _LAST[0] is vessel and _LAST[1] == key:
-        return _LAST[2]
-    out = vessel.clearance(points)
-    _LAST[:] = [vessel, key, out]
-    return out
-
-
 def _needed(model: Model, curvature: FloatArray, nodes: IntArray) -> FloatArray:
     """Clearance each node needs (mm): the wire's radius plus the sag of its longer bar's chord on a bulging wall."""
     lengths = model.chain.lengths
@@ -112,7 +97,7 @@ class Lumen(Block):
     @staticmethod
     def _near(model: Model, points: FloatArray) -> IntArray:
         """Nodes 1..n near touching the wall (at least the closest one)."""
-        c = _clearance(model.scene.vessel, points[1:])
+        c = model.scene.vessel.clearance(points[1:])
         slack = c.distance - _needed(model, c.curvature, np.arange(1, model.n + 1))
         band = np.maximum(NEAR_BARS * float(np.max(model.chain.lengths)), NEAR_FRACTION * np.maximum(c.distance, 0.0))
         near = np.flatnonzero(slack <= band) + 1
@@ -120,7 +105,7 @@ class Lumen(Block):
 
     @classmethod
     def _modelled(cls, model: Model, nodes: IntArray, points: FloatArray) -> Lumen:
-        full = _clearance(model.scene.vessel, points[1:])  # every node, shared with the working-set choice
+        full = model.scene.vessel.clearance(points[1:])  # every node, shared with the working-set choice
         c = type(full)(**{name: getattr(full, name)[nodes - 1] for name in ("distance", "normal", "boundary",
                                                                                "curvature")})
         return cls((0,), np.asarray(nodes, dtype=int), centres=points[nodes].copy(), normals=c.normal,
@@ -148,7 +133,7 @@ class Lumen(Block):
 
     def slack(self, model: Model, points: FloatArray) -> FloatArray:
         """True clearance minus the clearance needed, at every node 1..n (mm; negative: outside the lumen)."""
-        c = _clearance(model.scene.vessel, points[1:])
+        c = model.scene.vessel.clearance(points[1:])
         return c.distance - _needed(model, c.curvature, np.arange(1, model.n + 1))
 
     def violation(self, model: Model, phi: FloatArray, points: FloatArray | None = None) -> FloatArray:

@@ -165,3 +165,19 @@ def test_bad_options():
         formulate(scene, initial_angles=np.zeros(100), initial_nodes=np.zeros((101, 2)))
     with pytest.raises(ValueError, match="infeasible"):
         formulate(paper_scenes()["table5"])
+
+
+def test_curvature_term_is_the_sum_of_the_rows_jacobian_products():
+    from guidewire.chain import BarChain
+    from guidewire.formulation import _curvature_term
+
+    rng = np.random.default_rng(3)
+    n = 12
+    chain = BarChain(np.zeros(2), rng.uniform(0.5, 1.5, n))
+    phi = rng.normal(size=n)
+    nodes = np.array([3, 7, 7, 12])
+    w = rng.normal(size=(len(nodes), 2, 2))
+    w = w + w.transpose(0, 2, 1)
+    jac = chain.node_jacobian(phi, nodes)  # (rows, 2, n)
+    expected = np.einsum("ran,rab,rbm->nm", jac, w, jac)
+    np.testing.assert_allclose(_curvature_term(chain, phi, nodes, w), expected, rtol=1e-12, atol=1e-12)

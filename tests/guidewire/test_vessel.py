@@ -295,3 +295,61 @@ def test_a_tube_continues_straight_past_its_far_end_then_closes():
     # the arch's root does not reach back to its entrance: outside the descending aorta is outside
     arch = load_scene(VESSELS / "aortic_arch.toml").vessel
     assert arch.clearance([[-12.0, 5.0]]).distance[0] < 0.0 < arch.clearance([[-8.0, 5.0]]).distance[0]
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# the fast paths of clearance and past_end answer exactly as searching every tube
+def _every_tube(vessel: Vessel, p: np.ndarray) -> tuple[dict[str, np.ndarray], np.ndarray]:
+    tubes = vessel._geometry.tubes
+    m, t = len(p), len(tubes.curves)
+    best = tubes.closest(p)
+    return best, np.argmax((best["radius"] - best["r"]).reshape(t, m), axis=0) * m + np.arange(m)
+
+
+@pytest.mark.parametrize("name", ["aortic_arch", "tortuous", "branched"])
+def test_pruned_tube_search_gives_the_answer_of_searching_every_tube(name):
+    vessel = _branched() if name == "branched" else load_scene(VESSELS / f"{name}.toml").vessel
+    rng = np.random.default_rng(5)
+    lines = np.concatenate(vessel.wall_lines())
+    tubes = vessel._geometry.tubes
+    p = np.concatenate([
+        rng.uniform(lines.min(axis=0) - 10.0, lines.max(axis=0) + 10.0, size=(4000, 2)),  # inside and outside
+        lines + rng.normal(scale=0.2, size=lines.shape),  # near the walls and the branch mouths
+        *(point + rng.normal(size=(500, 2)) * 3.0 * radius + direction * rng.uniform(-20.0, 80.0, size=(500, 1))
+          for point, direction, radius in zip(tubes.tail_point, tubes.tail_tangent, tubes.tail_radius, strict=True)),
+    ])
+    reference, flat = _every_tube(vessel, p)
+    best, pick = vessel._geometry.best(p)
+    for key in ("u", "k", "centre", "radius", "v", "r", "source", "t", "kappa"):
+        np.testing.assert_array_equal(best[key][pick], reference[key][flat], err_msg=key)
+    np.testing.assert_array_equal(vessel.past_end(p), np.isin(reference["source"][flat], (2, 3)))
+    assert np.all(tubes.upper_bound(p) >= (reference["radius"] - reference["r"]).reshape(len(tubes.curves), -1).T
+                  - 1e-12)
+
+
+def test_clearance_answers_are_kept_read_only_and_exact():
+    vessel = load_scene(VESSELS / "aortic_arch.toml").vessel
+    p = np.array([[0.0, 5.0], [10.0, 40.0]])
+    first = vessel.clearance(p)
+    assert vessel.clearance(p.copy()) is first  # the same points: the kept answer
+    assert not first.distance.flags.writeable and not first.normal.flags.writeable
+    moved = vessel.clearance(p + 1e-12)  # other points: a new answer
+    assert moved is not first and moved.distance[0] != first.distance[0]
+    for _ in range(8):  # the memo stays small
+        vessel.clearance(np.random.default_rng(1).normal(size=(3, 2)))
+    assert len(vessel._geometry.answers._answers) <= 4
+    again = Vessel.from_centreline(vessel.centreline, vessel.radius, vessel.branches)
+    np.testing.assert_array_equal(again.clearance(p).distance, first.distance)  # a new vessel computes its own
+
+
+def test_clearance_of_points_extending_a_kept_query_equals_a_fresh_one():
+    scene = load_scene(VESSELS / "aortic_arch.toml")
+    vessel, fresh = scene.vessel, Vessel.from_centreline(scene.vessel.centreline, scene.vessel.radius,
+                                                         scene.vessel.branches)
+    rng = np.random.default_rng(11)
+    p = _inside(vessel, rng, 60, (-60.0, 40.0, 0.0, 220.0))
+    vessel.clearance(p[:40])
+    longer = vessel.clearance(p)  # the first 40 rows kept, 20 computed
+    direct = fresh.clearance(p)
+    for name in ("distance", "normal", "boundary", "curvature"):
+        np.testing.assert_array_equal(getattr(longer, name), getattr(direct, name), err_msg=name)

@@ -60,6 +60,13 @@ class Options:
         not among the defaults: on the guidewire's aortic arch at 250 bars 52 subproblems failed DAQP, quadprog and
         Clarabel (degenerate elastic QPs the iteration recovers from), where OSQP spent 0.9 s each for a 49 s solve;
         without it 5.8 s and the same answer; Hock–Schittkowski unchanged (115 solved, 0 false successes).
+    step_bound : float
+        Largest change of any variable in one step of the first :data:`sqp.solver.RESTART_BOUNDED_ITERATIONS` (10)
+        iterations (a box trust region on the QP); ``inf`` (the default): none. A QP whose step reaches it gives no
+        KKT certificate (its bound multipliers include the box's).
+    restart : bool
+        After a failure (INFEASIBLE, LINE_SEARCH, SMALL_STEP) on a problem with nonlinear constraints, solve again
+        from ``x0`` with a step bound on the first iterations (:func:`sqp.solver.run`).
 
     Raises
     ------
@@ -76,6 +83,8 @@ class Options:
     verbose: bool = False
     second_order_correction: bool = True
     qp_fallbacks: tuple[str, ...] = ("quadprog", "clarabel")
+    step_bound: float = float("inf")
+    restart: bool = True
 
     def __post_init__(self) -> None:
         if not isinstance(self.tol, int | float) or not self.tol > 0:

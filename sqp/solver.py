@@ -25,7 +25,7 @@ from sqp.backends import AUTO, auto_choice
 from sqp.build import build_problem
 from sqp.hessian import convexify, damped_bfgs_update, initial_scaling
 from sqp.iterate import Derivatives, Evaluator, Point, State
-from sqp.kkt import KKTResiduals, kkt_residuals, max_violation
+from sqp.kkt import KKTResiduals, cancellation, kkt_residuals, max_violation
 from sqp.linesearch import line_search
 from sqp.merit import descent_penalty, update_penalty
 from sqp.multipliers import (
@@ -46,7 +46,8 @@ from sqp.subproblem import QPStep
 
 Array = NDArray[np.float64]
 
-#: Scaled KKT level accepted as success (status ACCEPTABLE) when rounding errors stop progress towards ``tol``.
+#: Scaled KKT level accepted as success (status ACCEPTABLE) when rounding errors stop progress towards ``tol``; the
+#: stationarity level is this times the cancellation factor of the Lagrangian gradient (:func:`acceptable`).
 ACCEPTABLE_TOL = 1e-6
 
 
@@ -360,10 +361,8 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
             # (the multiplier estimates of the QPs solved while x stood still all belong to this point: the best one
             # decides; rounding makes them scatter around the limit on ill-conditioned problems such as HS116)
             assert best is not None
-            kkt_best, qp_best = best
-            if kkt_best.feasible(options.tol) and max(kkt_best.stationarity, kkt_best.complementarity) <= max(
-                    ACCEPTABLE_TOL, options.tol):
-                status, st.qp = Status.ACCEPTABLE, qp_best
+            if acceptable(problem, st, *best, options.tol):
+                status, st.qp = Status.ACCEPTABLE, best[1]
             break
         new_pt, new_der, alpha, soc = search.pt, search.der, search.alpha, search.soc
         assert new_der is not None
@@ -460,6 +459,20 @@ def infeasibility_stalled(least_trace: list[float], elastic_run: int, tol: float
     if elastic_run < INFEASIBLE_STALL or least_trace[-1] <= tol:
         return False
     return least_trace[-1] > (1.0 - INFEASIBLE_PROGRESS) * least_trace[-1 - INFEASIBLE_STALL]
+
+
+def acceptable(problem: Problem, st: State, kkt: KKTResiduals, qp: QPStep, tol: float) -> bool:
+    """Whether a point where no step makes progress passes the ACCEPTABLE test with the multipliers of ``qp``:
+    feasible to ``tol``, complementarity at most ``max(ACCEPTABLE_TOL, tol)`` and stationarity at most that times
+    the factor by which the terms of the Lagrangian gradient exceed it (:func:`~sqp.kkt.cancellation`): rounding in
+    those terms, not the distance to a KKT point, limits the residual there (a hanging chain of 150 links: residual
+    2e-6 with tensions 150 times the gradient)."""
+    level = max(ACCEPTABLE_TOL, tol)
+    if not kkt.feasible(tol) or kkt.complementarity > level:
+        return False
+    if kkt.stationarity <= level:
+        return True
+    return kkt.stationarity <= level * cancellation(problem, st.pt.x, st.der.g, st.der.J, qp.lam_nl, qp.lam_lin, qp.z)
 
 
 def _closer(second: Result, first: Result, tol: float) -> bool:

@@ -408,7 +408,8 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
         # already satisfy the KKT test there with a wide margin, and every row they load is active there, the next
         # Hessian and QP would only confirm it
         early = CONFIRMED_TOLERANCE * options.tol
-        if (not at_step_bound(options, qp.d) and _kkt(problem, st).satisfied(early)
+        if (rec.maxcv <= early * max(1.0, float(np.max(np.abs(new_pt.x), initial=0.0)))  # (the feasibility test first)
+                and not at_step_bound(options, qp.d) and _kkt(problem, st).satisfied(early)
                 and loaded_rows_active(problem, st, early)):
             status = Status.SUCCESS
             break

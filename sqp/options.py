@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 from sqp.backends import AUTO, DEFAULT_QP_OPTIONS, auto_choice, check_solver_name, installed_solvers
@@ -111,7 +112,7 @@ class Options:
         """Backend settings actually passed to qpsolvers."""
         return {**DEFAULT_QP_OPTIONS.get(self.qp_solver, {}), **self.qp_options}
 
-    @property
+    @cached_property
     def backends(self) -> list[tuple[str, dict[str, Any]]]:
         """The chosen backend with its settings, then the installed fallbacks with theirs."""
         if self.qp_solver == AUTO:

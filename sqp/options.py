@@ -45,8 +45,8 @@ class Options:
         Any installed backend can be named instead (:func:`sqp.installed_solvers`); a name is used exactly as
         given. ``"osqp"`` (the backend first named for the project) runs with SQP-grade accuracy settings,
         warm-started and polished, but is not the default: an ADMM method, its multipliers are sometimes too
-        inexact for the merit and BFGS updates even at eps 1e-9 (113 Hock–Schittkowski problems solved against
-        DAQP's 115, and 2.8x slower), and on the large sparse program it did not converge in 4000 iterations.
+        inexact for the merit and BFGS updates even at eps 1e-9 (117 Hock–Schittkowski problems solved against
+        DAQP's 118, and 3.1x slower), and on the large sparse program it did not converge in 4000 iterations.
     qp_options : dict
         Backend settings, merged over :data:`sqp.backends.DEFAULT_QP_OPTIONS` of the backend used.
     callback : callable or None

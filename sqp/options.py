@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 from sqp.backends import AUTO, DEFAULT_QP_OPTIONS, auto_choice, check_solver_name, installed_solvers
@@ -44,8 +45,8 @@ class Options:
         Any installed backend can be named instead (:func:`sqp.installed_solvers`); a name is used exactly as
         given. ``"osqp"`` (the backend first named for the project) runs with SQP-grade accuracy settings,
         warm-started and polished, but is not the default: an ADMM method, its multipliers are sometimes too
-        inexact for the merit and BFGS updates even at eps 1e-9 (113 Hock–Schittkowski problems solved against
-        DAQP's 115, and 2.8x slower), and on the large sparse program it did not converge in 4000 iterations.
+        inexact for the merit and BFGS updates even at eps 1e-9 (117 Hock–Schittkowski problems solved against
+        DAQP's 118, and 3.1x slower), and on the large sparse program it did not converge in 4000 iterations.
     qp_options : dict
         Backend settings, merged over :data:`sqp.backends.DEFAULT_QP_OPTIONS` of the backend used.
     callback : callable or None
@@ -60,6 +61,13 @@ class Options:
         not among the defaults: on the guidewire's aortic arch at 250 bars 52 subproblems failed DAQP, quadprog and
         Clarabel (degenerate elastic QPs the iteration recovers from), where OSQP spent 0.9 s each for a 49 s solve;
         without it 5.8 s and the same answer; Hock–Schittkowski unchanged (115 solved, 0 false successes).
+    step_bound : float
+        Largest change of any variable in one step of the first :data:`sqp.solver.RESTART_BOUNDED_ITERATIONS` (10)
+        iterations (a box trust region on the QP); ``inf`` (the default): none. A QP whose step reaches it gives no
+        KKT certificate (its bound multipliers include the box's).
+    restart : bool
+        After a failure (INFEASIBLE, LINE_SEARCH, SMALL_STEP) on a problem with nonlinear constraints, solve again
+        from ``x0`` with a step bound on the first iterations (:func:`sqp.solver.run`).
 
     Raises
     ------
@@ -76,6 +84,8 @@ class Options:
     verbose: bool = False
     second_order_correction: bool = True
     qp_fallbacks: tuple[str, ...] = ("quadprog", "clarabel")
+    step_bound: float = float("inf")
+    restart: bool = True
 
     def __post_init__(self) -> None:
         if not isinstance(self.tol, int | float) or not self.tol > 0:
@@ -102,7 +112,7 @@ class Options:
         """Backend settings actually passed to qpsolvers."""
         return {**DEFAULT_QP_OPTIONS.get(self.qp_solver, {}), **self.qp_options}
 
-    @property
+    @cached_property
     def backends(self) -> list[tuple[str, dict[str, Any]]]:
         """The chosen backend with its settings, then the installed fallbacks with theirs."""
         if self.qp_solver == AUTO:

@@ -95,6 +95,8 @@ class Rows:
 
     def violation(self, r: Array) -> Array:
         """Row-wise violation ``max(lb - r, r - ub, 0)`` (``|r - lb|`` for equalities)."""
+        if self.lb.size == 0:
+            return np.zeros(0)
         with np.errstate(invalid="ignore"):
             return np.maximum(np.maximum(self.lb - r, r - self.ub), 0.0)
 

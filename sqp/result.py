@@ -62,7 +62,8 @@ class Status(IntEnum):
                       "problem badly scaled.")
     MAX_ITER = (9, "The iteration limit was reached before the KKT residuals fell below tol; increase max_iter.")
     ACCEPTABLE = (10, "Converged to an acceptable level: the point is feasible to tol and its scaled KKT residuals are "
-                      "below 1e-6, but rounding errors prevent further progress towards tol.")
+                      "below 1e-6 (stationarity relative to the size of the Lagrangian gradient's terms), but rounding "
+                      "errors prevent further progress towards tol.")
     QP_FAILED = (11, "The QP subproblem could not be solved, even in its elastic form; try another qp_solver.")
     NONFINITE = (12, "A user function (the objective, a constraint or a derivative) returned NaN or inf, at the start "
                      "or at every trial point down to the shortest step.")

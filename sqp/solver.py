@@ -13,7 +13,7 @@ from __future__ import annotations
 import time
 import warnings
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -25,7 +25,7 @@ from sqp.backends import AUTO, auto_choice
 from sqp.build import build_problem
 from sqp.hessian import convexify, damped_bfgs_update, initial_scaling
 from sqp.iterate import Derivatives, Evaluator, Point, State
-from sqp.kkt import KKTResiduals, kkt_residuals, max_violation
+from sqp.kkt import KKTResiduals, cancellation, kkt_residuals, max_violation
 from sqp.linesearch import line_search
 from sqp.merit import descent_penalty, update_penalty
 from sqp.multipliers import (
@@ -46,7 +46,8 @@ from sqp.subproblem import QPStep
 
 Array = NDArray[np.float64]
 
-#: Scaled KKT level accepted as success (status ACCEPTABLE) when rounding errors stop progress towards ``tol``.
+#: Scaled KKT level accepted as success (status ACCEPTABLE) when rounding errors stop progress towards ``tol``; the
+#: stationarity level is this times the cancellation factor of the Lagrangian gradient (:func:`acceptable`).
 ACCEPTABLE_TOL = 1e-6
 
 
@@ -206,26 +207,75 @@ def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array
     options = options.for_problem(problem)
     if options.verbose:
         print(f"sqp: {problem.n} variables, qp_solver = {options.qp_solver}" + (f" (auto: {why})" if why else ""))
-    res = _iterate(problem, options, B0, lam0)
+    res, flat = _iterate(problem, options, B0, lam0)
+    if options.restart and flat and res.status in RESTART_STATUSES:
+        res = _restart(problem, options, B0, lam0, res)
     res.qp_solver = options.qp_solver
     return res
 
 
-def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array | None) -> Result:
+#: Failures that, at an infeasible point, start the solve again from ``x0`` with a step bound (:func:`_restart`):
+#: the ends of first steps that jumped into a region where the linearisation misleads (HS88, HS90, HS92: to
+#: ``x = 0``, where the constraint gradient vanishes, a local minimiser of the violation).
+RESTART_STATUSES = (Status.INFEASIBLE, Status.LINE_SEARCH, Status.SMALL_STEP)
+
+#: How far the linearisation of a violated row may ask the step to go, in units of ``max(1, ||x||_inf)``, before its
+#: gradient counts as vanishing (:func:`flat_violation`).
+RESTART_REACH = 100.0
+
+#: The step bound of the restart, relative to ``max(1, ||x0||_inf)``, on every component of the step.
+RESTART_STEP_BOUND = 0.2
+
+#: The number of iterations of the restart that keep the step bound (the trust region of the first iterations).
+RESTART_BOUNDED_ITERATIONS = 10
+
+
+def flat_violation(problem: Problem, st: State, tol: float) -> bool:
+    """Whether some nonlinear row is violated at ``st`` by more than ``tol * max(1, ||x||_inf)`` while its gradient is
+    so small that the linearisation would need a step longer than :data:`RESTART_REACH` ``* max(1, ||x||_inf)`` to
+    remove the violation: a point where the constraint gradient (nearly) vanishes, whose INFEASIBLE verdict says
+    nothing about the problem (HS88: ``x = 0``)."""
+    v = problem.nonlinear.violation(st.pt.c)
+    x_scale = max(1.0, float(np.max(np.abs(st.pt.x), initial=0.0)))
+    rows = np.flatnonzero(v > tol * x_scale)
+    if rows.size == 0:
+        return False
+    J = st.der.J[rows]
+    size = np.asarray(abs(J).max(axis=1).todense()).ravel() if sp.issparse(J) else np.max(np.abs(J), axis=1)
+    return bool(np.any(v[rows] > RESTART_REACH * x_scale * size))
+
+
+def _restart(problem: Problem, options: Options, B0: Array | None, lam0: Array | None, first: Result) -> Result:
+    """Solve again from ``x0`` with every step bounded by :data:`RESTART_STEP_BOUND` for the first
+    :data:`RESTART_BOUNDED_ITERATIONS` iterations; the better of the two results, with the work of both counted."""
+    x_scale = max(1.0, float(np.max(np.abs(problem.x0), initial=0.0)))
+    bounded = replace(options, step_bound=RESTART_STEP_BOUND * x_scale)
+    second = _iterate(problem, bounded, B0, lam0)[0]
+    better = second if second.success or _closer(second, first, options.tol) else first
+    better.nfev, better.njev, better.nhev = (first.nfev + second.nfev, first.njev + second.njev,
+                                             first.nhev + second.nhev)
+    better.nit = first.nit + second.nit
+    better.solve_time = first.solve_time + second.solve_time
+    return better
+
+
+def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array | None) -> tuple[Result, bool]:
+    """The SQP iteration from ``x0``; with its result, whether it ended at a point where a violated row is flat
+    (:func:`flat_violation`)."""
     t_start = time.perf_counter()
     ev = Evaluator(problem)
     history: list[IterationRecord] = []
     x, status, detail = start_point(problem, options)
     if status is not None:
-        return build_result(problem, ev, None, None, None, status, history, t_start, x=x, detail=detail)
+        return build_result(problem, ev, None, None, None, status, history, t_start, x=x, detail=detail), False
     pt = ev.point(x)
     if not pt.finite:
         return build_result(problem, ev, pt, None, None, Status.NONFINITE, history, t_start,
-                            detail=_nonfinite_detail(ev, pt, None, "at the start point"))
+                            detail=_nonfinite_detail(ev, pt, None, "at the start point")), False
     der = ev.derivatives(pt)
     if not der.finite:
         return build_result(problem, ev, pt, der, None, Status.NONFINITE, history, t_start,
-                            detail=_nonfinite_detail(ev, pt, der, "at the start point"))
+                            detail=_nonfinite_detail(ev, pt, der, "at the start point")), False
     exact = problem.hess is not None
     scaled_start = B0 is None and not exact
     shift = al_weight = 0.0
@@ -246,6 +296,8 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
     elastic_run = 0  # consecutive iterations whose QP was elastic
     origin = Origin(f=pt.f, x_scale=max(1.0, float(np.max(np.abs(pt.x)))))
     for nit in range(options.max_iter + 1):
+        if nit == RESTART_BOUNDED_ITERATIONS and np.isfinite(options.step_bound):
+            options = replace(options, step_bound=np.inf)  # the step bound covers the first iterations only
         ev.nit = nit + 1  # evaluations from here to the acceptance of the next point belong to iteration nit + 1
         if exact:  # the exact Lagrangian Hessian at (x_k, lam_{k-1}), made positive definite
             lam_prev = st.qp.lam_nl if st.qp is not None else (
@@ -272,6 +324,8 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
                 break
         st.qp = qp
         kkt = _kkt(problem, st)
+        if at_step_bound(options, qp.d):  # the bound's multipliers hide in z: no KKT certificate from this QP
+            kkt = replace(kkt, stationarity=np.inf)
         if stalled == 0 or best is None or kkt.worst < best[0].worst:  # best multipliers at this (stalled) point
             best = (kkt, qp)
         if kkt.satisfied(options.tol):
@@ -307,10 +361,8 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
             # (the multiplier estimates of the QPs solved while x stood still all belong to this point: the best one
             # decides; rounding makes them scatter around the limit on ill-conditioned problems such as HS116)
             assert best is not None
-            kkt_best, qp_best = best
-            if kkt_best.feasible(options.tol) and max(kkt_best.stationarity, kkt_best.complementarity) <= max(
-                    ACCEPTABLE_TOL, options.tol):
-                status, st.qp = Status.ACCEPTABLE, qp_best
+            if acceptable(problem, st, *best, options.tol):
+                status, st.qp = Status.ACCEPTABLE, best[1]
             break
         new_pt, new_der, alpha, soc = search.pt, search.der, search.alpha, search.soc
         assert new_der is not None
@@ -356,13 +408,16 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
         # already satisfy the KKT test there with a wide margin, and every row they load is active there, the next
         # Hessian and QP would only confirm it
         early = CONFIRMED_TOLERANCE * options.tol
-        if _kkt(problem, st).satisfied(early) and loaded_rows_active(problem, st, early):
+        if (rec.maxcv <= early * max(1.0, float(np.max(np.abs(new_pt.x), initial=0.0)))  # (the feasibility test first)
+                and not at_step_bound(options, qp.d) and _kkt(problem, st).satisfied(early)
+                and loaded_rows_active(problem, st, early)):
             status = Status.SUCCESS
             break
     if status is Status.INFEASIBLE:
         detail = f"Least violation reached: {least[0]:.2e} at x = {format_point(least[1])}."
+    flat = status in RESTART_STATUSES and flat_violation(problem, st, options.tol)
     return build_result(problem, ev, st.pt, st.der, st.qp, status, history, t_start, B=st.B, nit=len(history),
-                        detail=detail)
+                        detail=detail), flat
 
 
 #: Iterates diverge (status UNBOUNDED) at a feasible point whose objective fell below ``f(x0)`` by this factor of
@@ -405,6 +460,36 @@ def infeasibility_stalled(least_trace: list[float], elastic_run: int, tol: float
     if elastic_run < INFEASIBLE_STALL or least_trace[-1] <= tol:
         return False
     return least_trace[-1] > (1.0 - INFEASIBLE_PROGRESS) * least_trace[-1 - INFEASIBLE_STALL]
+
+
+def acceptable(problem: Problem, st: State, kkt: KKTResiduals, qp: QPStep, tol: float) -> bool:
+    """Whether a point where no step makes progress passes the ACCEPTABLE test with the multipliers of ``qp``:
+    feasible to ``tol``, complementarity at most ``max(ACCEPTABLE_TOL, tol)`` and stationarity at most that times
+    the factor by which the terms of the Lagrangian gradient exceed it (:func:`~sqp.kkt.cancellation`): rounding in
+    those terms, not the distance to a KKT point, limits the residual there (a hanging chain of 150 links: residual
+    2e-6 with tensions 150 times the gradient)."""
+    level = max(ACCEPTABLE_TOL, tol)
+    if not kkt.feasible(tol) or kkt.complementarity > level:
+        return False
+    if kkt.stationarity <= level:
+        return True
+    return kkt.stationarity <= level * cancellation(problem, st.pt.x, st.der.g, st.der.J, qp.lam_nl, qp.lam_lin, qp.z)
+
+
+def _closer(second: Result, first: Result, tol: float) -> bool:
+    """Whether the failed ``second`` is nearer a solution than the failed ``first``: less violation when ``first``
+    is infeasible, else feasible with a lower objective."""
+    if first.success:
+        return False
+    if first.maxcv > tol:
+        return bool(second.maxcv < first.maxcv)
+    return bool(second.maxcv <= tol and second.fun < first.fun)
+
+
+def at_step_bound(options: Options, d: Array) -> bool:
+    """Whether the step ``d`` reaches ``options.step_bound`` in some component (to a relative 1e-9)."""
+    return bool(np.isfinite(options.step_bound)
+                and np.max(np.abs(d), initial=0.0) >= (1.0 - 1e-9) * options.step_bound)
 
 
 def _penalties(problem: Problem, st: State, qp: QPStep) -> Array:

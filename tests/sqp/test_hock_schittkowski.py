@@ -25,10 +25,6 @@ EXPECTED_FAILURES: dict[str, str] = {
     "HS61": "from x0 = 0 the constraint Jacobian has rank one (x2, x3 enter squared): the linearisations ask for huge "
             "steps, the multipliers grow without bound and the line search stalls (SLSQP: 'Singular matrix C'); "
             "solved from the same x0 when hess0 is the objective Hessian",
-    "HS88": "the first step reaches x = 0 where the constraint gradient vanishes, a local minimiser of the violation: "
-            "reported INFEASIBLE (SLSQP stops at x = 0 too; trust-constr solves it)",
-    "HS90": "as HS88: stuck at x = 0 where the constraint gradient vanishes; reported INFEASIBLE",
-    "HS92": "as HS88: stuck at x = 0 where the constraint gradient vanishes; reported INFEASIBLE",
     "HS97": "converges to the local minimum f = 4.0712 (SLSQP reaches 3.1358 but claims no success)",
     "HS98": "converges to the local minimum f = 4.0712 (SLSQP reaches f* = 3.1358)",
 }

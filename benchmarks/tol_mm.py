@@ -1,17 +1,19 @@
 """solve(scene, tol_mm=…) on every paper scene with a continuum reference: bars used, estimated and true mean node
 error, time (all solves of the doubling together, median of 5), against the paper's 100 uniform bars.
 
-Usage: ``python benchmarks/tol_mm.py [TOL_MM]`` (default 0.01); writes ``results/tol_mm.md``.
+Usage: ``python benchmarks/tol_mm.py [--tol-mm TOL] [--quick] [--repeats K] [--out DIR]`` (default 0.01 mm, 5
+repeats); writes ``tol_mm.md`` (``tol_mm_quick.md`` with ``--quick``: three scenes, one repeat) in ``--out``.
+BLAS pinned to one thread.
 """
 
 from __future__ import annotations
 
 import statistics
-import sys
-from pathlib import Path
 
 import _environment  # noqa: F401  (pins BLAS to one thread before numpy loads)
 import numpy as np
+from _arguments import parse, parser
+from _tables import output_stem, write_markdown
 
 from guidewire import paper_scenes, solve
 from guidewire.reference import continuum_reference
@@ -19,26 +21,32 @@ from guidewire.reference.scene_reference import node_errors
 
 
 def main() -> None:
-    tol = float(sys.argv[1]) if len(sys.argv) > 1 else 0.01
+    ap = parser(__doc__, quick_help="three scenes, one repeat", repeats=5)
+    ap.add_argument("--tol-mm", type=float, default=0.01, help="mean node error asked for (mm)")
+    args = parse(ap)
+    tol, repeats = args.tol_mm, args.repeats
+    scenes = paper_scenes()
+    if args.quick:
+        scenes = {k: scenes[k] for k in ("table1_pi_4", "fig6b", "table4")}
     rows = ["| scene | bars | estimate (mm) | true (mm) | true/estimate | time (ms) | 100 bars: error (mm) | "
             "100 bars: time (ms) |", "|---|---|---|---|---|---|---|---|"]
-    for name, scene in paper_scenes().items():
+    for name, scene in scenes.items():
         reference, _ = continuum_reference(scene)
         if reference is None:
             continue
-        runs = [solve(scene, tol_mm=tol) for _ in range(5)]
+        runs = [solve(scene, tol_mm=tol) for _ in range(repeats)]
         sol = runs[-1]
-        uniform = [solve(scene, bars=100) for _ in range(5)]
+        uniform = [solve(scene, bars=100) for _ in range(repeats)]
         true = float(np.mean(node_errors(sol, reference)))
         true100 = float(np.mean(node_errors(uniform[-1], reference)))
         rows.append(f"| {name} | {sol.n_bars} | {sol.error_estimate_mm:.4g} | {true:.4g} | "
                     f"{true / sol.error_estimate_mm:.3f} | {statistics.median(r.solve_time_s for r in runs) * 1e3:.2f} "
                     f"| {true100:.4g} | {statistics.median(r.solve_time_s for r in uniform) * 1e3:.2f} |")
     text = (f"# solve(scene, tol_mm={tol:g}): doubled uniform layouts, Richardson estimate\n\n"
-            "Time is every solve of the doubling together (median of 5). Table 5 has no continuum reference.\n\n"
+            f"Time is every solve of the doubling together (median of {repeats}). Table 5 has no continuum "
+            "reference.\n\n"
             + "\n".join(rows) + "\n")
-    out = Path(__file__).parent / "results" / "tol_mm.md"
-    out.write_text(text)
+    write_markdown(text.splitlines(), output_stem(args.out, "tol_mm", args.quick).with_suffix(".md"))
     print(text)
 
 

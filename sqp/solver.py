@@ -13,7 +13,7 @@ from __future__ import annotations
 import time
 import warnings
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -25,7 +25,7 @@ from sqp.backends import AUTO, auto_choice
 from sqp.build import build_problem
 from sqp.hessian import convexify, damped_bfgs_update, initial_scaling
 from sqp.iterate import Derivatives, Evaluator, Point, State
-from sqp.kkt import KKTResiduals, cancellation, kkt_residuals, max_violation
+from sqp.kkt import KKTResiduals, max_violation
 from sqp.linesearch import line_search
 from sqp.merit import descent_penalty, update_penalty
 from sqp.multipliers import (
@@ -43,15 +43,26 @@ from sqp.scipy_call import adapt_callback, check_method, print_summary, read_set
 from sqp.start import initial_hessian, start_point
 from sqp.step import qp_step
 from sqp.subproblem import QPStep
+from sqp.termination import (
+    RESTART_BOUNDED_ITERATIONS,
+    RESTART_STATUSES,
+    RESTART_STEP_BOUND,
+    Origin,
+    acceptable,
+    at_step_bound,
+    closer,
+    diverging,
+    flat_violation,
+    infeasibility_stalled,
+    kkt_at,
+    negligible,
+    stalled_status,
+)
 
 Array = NDArray[np.float64]
 
 #: Scaled KKT level accepted as success (status ACCEPTABLE) when rounding errors stop progress towards ``tol``; the
 #: stationarity level is this times the cancellation factor of the Lagrangian gradient (:func:`acceptable`).
-ACCEPTABLE_TOL = 1e-6
-
-
-#: Consecutive steps below the rounding level of x (relative 1e-12) after which the solve stops.
 STALL_ITERATIONS = 3
 
 
@@ -214,44 +225,13 @@ def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array
     return res
 
 
-#: Failures that, at an infeasible point, start the solve again from ``x0`` with a step bound (:func:`_restart`):
-#: the ends of first steps that jumped into a region where the linearisation misleads (HS88, HS90, HS92: to
-#: ``x = 0``, where the constraint gradient vanishes, a local minimiser of the violation).
-RESTART_STATUSES = (Status.INFEASIBLE, Status.LINE_SEARCH, Status.SMALL_STEP)
-
-#: How far the linearisation of a violated row may ask the step to go, in units of ``max(1, ||x||_inf)``, before its
-#: gradient counts as vanishing (:func:`flat_violation`).
-RESTART_REACH = 100.0
-
-#: The step bound of the restart, relative to ``max(1, ||x0||_inf)``, on every component of the step.
-RESTART_STEP_BOUND = 0.2
-
-#: The number of iterations of the restart that keep the step bound (the trust region of the first iterations).
-RESTART_BOUNDED_ITERATIONS = 10
-
-
-def flat_violation(problem: Problem, st: State, tol: float) -> bool:
-    """Whether some nonlinear row is violated at ``st`` by more than ``tol * max(1, ||x||_inf)`` while its gradient is
-    so small that the linearisation would need a step longer than :data:`RESTART_REACH` ``* max(1, ||x||_inf)`` to
-    remove the violation: a point where the constraint gradient (nearly) vanishes, whose INFEASIBLE verdict says
-    nothing about the problem (HS88: ``x = 0``)."""
-    v = problem.nonlinear.violation(st.pt.c)
-    x_scale = max(1.0, float(np.max(np.abs(st.pt.x), initial=0.0)))
-    rows = np.flatnonzero(v > tol * x_scale)
-    if rows.size == 0:
-        return False
-    J = st.der.J[rows]
-    size = np.asarray(abs(J).max(axis=1).todense()).ravel() if sp.issparse(J) else np.max(np.abs(J), axis=1)
-    return bool(np.any(v[rows] > RESTART_REACH * x_scale * size))
-
-
 def _restart(problem: Problem, options: Options, B0: Array | None, lam0: Array | None, first: Result) -> Result:
     """Solve again from ``x0`` with every step bounded by :data:`RESTART_STEP_BOUND` for the first
     :data:`RESTART_BOUNDED_ITERATIONS` iterations; the better of the two results, with the work of both counted."""
     x_scale = max(1.0, float(np.max(np.abs(problem.x0), initial=0.0)))
     bounded = replace(options, step_bound=RESTART_STEP_BOUND * x_scale)
     second = _iterate(problem, bounded, B0, lam0)[0]
-    better = second if second.success or _closer(second, first, options.tol) else first
+    better = second if second.success or closer(second, first, options.tol) else first
     better.nfev, better.njev, better.nhev = (first.nfev + second.nfev, first.njev + second.njev,
                                              first.nhev + second.nhev)
     better.nit = first.nit + second.nit
@@ -323,7 +303,7 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
                           f"{qp.status}) at iteration {nit}.")
                 break
         st.qp = qp
-        kkt = _kkt(problem, st)
+        kkt = kkt_at(problem, st)
         if at_step_bound(options, qp.d):  # the bound's multipliers hide in z: no KKT certificate from this QP
             kkt = replace(kkt, stationarity=np.inf)
         if stalled == 0 or best is None or kkt.worst < best[0].worst:  # best multipliers at this (stalled) point
@@ -345,7 +325,7 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
             # penalties inflated by early, poorly scaled multipliers: restart them from the current ones (Eq. 13)
             st.mu = np.abs(qp.lam_nl)
             search = line_search(problem, options, ev, st, d)
-        if search.pt is not None and _negligible(st.pt.x, search.pt.x):
+        if search.pt is not None and negligible(st.pt.x, search.pt.x):
             stalled += 1
         else:
             stalled = 0
@@ -357,7 +337,7 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
                 detail = (f"{search.nonfinite} returned NaN or inf at every trial point of iteration {nit + 1} down "
                           f"to step length {search.alpha:.1e} (from x = {format_point(st.pt.x)}).")
             else:
-                status = _stalled_status(problem, st, d)
+                status = stalled_status(problem, st, d)
             # (the multiplier estimates of the QPs solved while x stood still all belong to this point: the best one
             # decides; rounding makes them scatter around the limit on ill-conditioned problems such as HS116)
             assert best is not None
@@ -409,7 +389,7 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
         # Hessian and QP would only confirm it
         early = CONFIRMED_TOLERANCE * options.tol
         if (rec.maxcv <= early * max(1.0, float(np.max(np.abs(new_pt.x), initial=0.0)))  # (the feasibility test first)
-                and not at_step_bound(options, qp.d) and _kkt(problem, st).satisfied(early)
+                and not at_step_bound(options, qp.d) and kkt_at(problem, st).satisfied(early)
                 and loaded_rows_active(problem, st, early)):
             status = Status.SUCCESS
             break
@@ -418,78 +398,6 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
     flat = status in RESTART_STATUSES and flat_violation(problem, st, options.tol)
     return build_result(problem, ev, st.pt, st.der, st.qp, status, history, t_start, B=st.B, nit=len(history),
                         detail=detail), flat
-
-
-#: Iterates diverge (status UNBOUNDED) at a feasible point whose objective fell below ``f(x0)`` by this factor of
-#: ``max(1, |f(x0)|)`` while ``||x||_inf`` grew beyond this factor of ``max(1, ||x0||_inf)``: ten orders of magnitude
-#: in both, far from any Hock–Schittkowski solve. (IPOPT's ``diverging_iterates_tol`` is an absolute 1e20 on x
-#: alone; on a linear objective the damped-BFGS steps grow geometrically, so 1e10 is reached in about a dozen
-#: iterations.)
-DIVERGENCE_FACTOR = 1e10
-
-#: Consecutive elastic iterations without a 1 % reduction of the least violation reached after which the solve
-#: ends INFEASIBLE: the elastic steps no longer reduce the violation, so the iterates circle a local minimiser of it
-#: (Fletcher & Leyffer's filter SQP and SNOPT's elastic mode stop on the same evidence).
-INFEASIBLE_STALL = 10
-
-#: The relative reduction of the least violation that counts as progress within :data:`INFEASIBLE_STALL`.
-INFEASIBLE_PROGRESS = 0.01
-
-
-@dataclass(frozen=True)
-class Origin:
-    """The objective and the size of the start, against which divergence is measured."""
-
-    f: float
-    x_scale: float
-
-
-def diverging(origin: Origin, pt: Point, maxcv: float, tol: float) -> bool:
-    """Whether ``pt`` is feasible and both its objective and its size have run away from the start by
-    :data:`DIVERGENCE_FACTOR` (an unbounded problem)."""
-    x_size = float(np.max(np.abs(pt.x), initial=0.0))
-    if maxcv > tol * max(1.0, x_size):
-        return False
-    return bool(pt.f < origin.f - DIVERGENCE_FACTOR * max(1.0, abs(origin.f))
-                and x_size > DIVERGENCE_FACTOR * origin.x_scale)
-
-
-def infeasibility_stalled(least_trace: list[float], elastic_run: int, tol: float) -> bool:
-    """Whether the last :data:`INFEASIBLE_STALL` iterations were all elastic and the least violation reached, still
-    above ``tol``, fell by less than :data:`INFEASIBLE_PROGRESS` over them."""
-    if elastic_run < INFEASIBLE_STALL or least_trace[-1] <= tol:
-        return False
-    return least_trace[-1] > (1.0 - INFEASIBLE_PROGRESS) * least_trace[-1 - INFEASIBLE_STALL]
-
-
-def acceptable(problem: Problem, st: State, kkt: KKTResiduals, qp: QPStep, tol: float) -> bool:
-    """Whether a point where no step makes progress passes the ACCEPTABLE test with the multipliers of ``qp``:
-    feasible to ``tol``, complementarity at most ``max(ACCEPTABLE_TOL, tol)`` and stationarity at most that times
-    the factor by which the terms of the Lagrangian gradient exceed it (:func:`~sqp.kkt.cancellation`): rounding in
-    those terms, not the distance to a KKT point, limits the residual there (a hanging chain of 150 links: residual
-    2e-6 with tensions 150 times the gradient)."""
-    level = max(ACCEPTABLE_TOL, tol)
-    if not kkt.feasible(tol) or kkt.complementarity > level:
-        return False
-    if kkt.stationarity <= level:
-        return True
-    return kkt.stationarity <= level * cancellation(problem, st.pt.x, st.der.g, st.der.J, qp.lam_nl, qp.lam_lin, qp.z)
-
-
-def _closer(second: Result, first: Result, tol: float) -> bool:
-    """Whether the failed ``second`` is nearer a solution than the failed ``first``: less violation when ``first``
-    is infeasible, else feasible with a lower objective."""
-    if first.success:
-        return False
-    if first.maxcv > tol:
-        return bool(second.maxcv < first.maxcv)
-    return bool(second.maxcv <= tol and second.fun < first.fun)
-
-
-def at_step_bound(options: Options, d: Array) -> bool:
-    """Whether the step ``d`` reaches ``options.step_bound`` in some component (to a relative 1e-9)."""
-    return bool(np.isfinite(options.step_bound)
-                and np.max(np.abs(d), initial=0.0) >= (1.0 - 1e-9) * options.step_bound)
 
 
 def _penalties(problem: Problem, st: State, qp: QPStep) -> Array:
@@ -516,25 +424,3 @@ def _nonfinite_detail(ev: Evaluator, pt: Point, der: Derivatives | None, where: 
     return f"{ev.nonfinite_source(pt, der)} returned NaN or inf {where} (iteration {ev.nit}, x = {format_point(pt.x)})."
 
 
-def _kkt(problem: Problem, st: State) -> KKTResiduals:
-    qp = st.qp
-    assert qp is not None
-    return kkt_residuals(problem, st.pt.x, st.der.g, st.pt.c, st.der.J, st.pt.r, qp.lam_nl, qp.lam_lin, qp.z)
-
-
-def _negligible(x: Array, x_new: Array) -> bool:
-    """Whether a step changed x by less than a relative 1e-12 (rounding noise in f or c drives such steps)."""
-    return bool(np.max(np.abs(x_new - x), initial=0.0) <= 1e-12 * (1.0 + np.max(np.abs(x), initial=0.0)))
-
-
-def _stalled_status(problem: Problem, st: State, d: Array) -> Status:
-    """Why no step was accepted: non-finite values along the step, a vanishing step, or a failed search."""
-    if np.max(np.abs(d), initial=0.0) <= 1e-14 * (1.0 + np.max(np.abs(st.pt.x))):
-        if st.qp is not None and st.qp.elastic and np.max(problem.nonlinear.violation(st.pt.c), initial=0.0) > 0:
-            return Status.INFEASIBLE
-        return Status.SMALL_STEP
-    if st.qp is not None and st.qp.elastic and _kkt(problem, st).feasibility > 1e-6:
-        # the linearisation is inconsistent here and no step along the elastic direction reduces the merit: a
-        # (local) minimiser of the violation, not a derivative or scaling problem
-        return Status.INFEASIBLE
-    return Status.LINE_SEARCH

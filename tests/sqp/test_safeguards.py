@@ -11,7 +11,8 @@ from sqp.build import build_problem
 from sqp.options import Options
 from sqp.problems.hock_schittkowski import BUILDERS
 from sqp.problems.judge import judge
-from sqp.solver import RESTART_BOUNDED_ITERATIONS, run
+from sqp.solver import run
+from sqp.termination import RESTART_BOUNDED_ITERATIONS
 
 
 def _run(prob, **options):

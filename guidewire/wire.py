@@ -1,0 +1,214 @@
+"""The wire: material, cross-section and discretisation, and its sections from the tip (units mm, MPa, rad)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .fields import real as _real
+from .fields import warn_modulus
+
+SCHEMES = ("second_order", "paper")
+"""Discretisations of the bending energy; see :mod:`guidewire.formulation`."""
+
+S_ROUNDING = 1e-12
+"""A contact within this fraction of the wire length of its end is at the end (rounding in ``k·(L/n)``)."""
+
+
+@dataclass(frozen=True)
+class Section:
+    """A stretch of the wire with its own material, cross-section and rest shape, measured from the tip.
+
+    Sections are listed from the tip (:attr:`Wire.sections`): the first covers the last ``length`` mm of wire, the
+    next the ``length`` mm before it, and so on; the wire's own values hold from the last section to the base (and
+    fill every field a section leaves None). Measured from the tip, a section moves with the material as the wire is
+    inserted (:meth:`Wire.with_length`).
+
+    Parameters
+    ----------
+    length : float
+        Length along the wire in mm (> 0).
+    youngs_modulus : float or None
+        ``E`` in MPa; None takes the wire's.
+    diameter : float or None
+        ``d`` in mm; None takes the wire's.
+    moment_of_inertia : float or None
+        ``I`` in mm⁴; None gives ``π d⁴ / 64`` of the section's diameter when the section sets one, else the wire's
+        ``I``.
+    rest_curvature : float
+        Curvature of the unloaded section in 1/mm, signed like the tangent angle's change from base to tip
+        (positive turns counter-clockwise towards the tip). A J-tip of radius ``R`` over an angle ``α`` is a tip
+        section of length ``R·α`` and rest curvature ``±1/R``; the sign picks which of the two mirror images.
+    """
+
+    length: float
+    youngs_modulus: float | None = None
+    diameter: float | None = None
+    moment_of_inertia: float | None = None
+    rest_curvature: float = 0.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "length", _real(self.length, "section.length", positive=True))
+        for name in ("youngs_modulus", "diameter", "moment_of_inertia"):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, _real(getattr(self, name), f"section.{name}", positive=True))
+        if self.youngs_modulus is not None:
+            warn_modulus(self.youngs_modulus, "section.youngs_modulus")
+        object.__setattr__(self, "rest_curvature", _real(self.rest_curvature, "section.rest_curvature"))
+
+    @classmethod
+    def arc(cls, radius: float, angle: float, **properties: Any) -> Section:
+        """A section bent at rest into a circular arc of ``radius`` (mm) over ``angle`` (rad; its sign is the turn's
+        sense from base to tip, e.g. ``Section.arc(12.1, 0.4 * math.pi)`` turns counter-clockwise)."""
+        radius = _real(radius, "section radius", positive=True)
+        angle = _real(angle, "section angle")
+        if angle == 0.0:
+            raise ValueError("section angle is 0; give the arc's turning angle in rad (its sign is the J's side).")
+        return cls(length=radius * abs(angle), rest_curvature=math.copysign(1.0, angle) / radius, **properties)
+
+
+@dataclass(frozen=True)
+class WireProperties:
+    """Per-bar material values of a wire (arrays over bars, base first).
+
+    Attributes
+    ----------
+    youngs_modulus, diameter, second_moment, rest_curvature : ndarray, shape (n,)
+        ``E`` (MPa), ``d`` (mm), ``I`` (mm⁴) and ``κ⁰`` (1/mm) of every bar.
+    """
+
+    youngs_modulus: NDArray[np.float64]
+    diameter: NDArray[np.float64]
+    second_moment: NDArray[np.float64]
+    rest_curvature: NDArray[np.float64]
+
+    @property
+    def bending_stiffness(self) -> NDArray[np.float64]:
+        """``EI`` in N·mm² per bar."""
+        return self.youngs_modulus * self.second_moment
+
+
+@dataclass(frozen=True)
+class Wire:
+    """The guidewire: material, cross-section and discretisation.
+
+    Parameters
+    ----------
+    length : float
+        Inserted length ``L`` in mm (> 0).
+    bars : int
+        Number ``n`` of rigid bars (≥ 1).
+    youngs_modulus : float
+        ``E`` in MPa (N/mm²); default the paper's 3.56 GPa. Below 100 MPa a
+        :class:`~guidewire.fields.SuspiciousValueWarning` says it is probably in GPa.
+    diameter : float
+        ``d`` in mm; default the paper's 0.78 mm. Used for the bending stress ``σ = E·(d/2)·|κ|`` and, when
+        ``moment_of_inertia`` is None, for ``I = π d⁴ / 64``.
+    moment_of_inertia : float or None
+        Second moment of area ``I`` in mm⁴; the paper's measured 1.816e-14 m⁴ is 0.01816 mm⁴.
+    max_relative_angle : float or None
+        The paper's ``b₂`` (Eq. 19): ``|Δθ| ≤ b₂`` at every joint, in rad. None (default) adds no such rows. With a
+        rest curvature it bounds the bend away from the rest shape, ``|Δθ − Δθ⁰| ≤ b₂``.
+    scheme : {"second_order", "paper"}
+        Discretisation of the bending energy (see :mod:`guidewire.formulation`).
+    sections : sequence of Section
+        Stretches with their own properties, listed from the tip (see :class:`Section`); empty (default) is the
+        uniform wire. Sections longer in total than ``length`` are allowed: only the inserted part counts.
+    """
+
+    length: float
+    bars: int
+    youngs_modulus: float = 3560.0
+    diameter: float = 0.78
+    moment_of_inertia: float | None = None
+    max_relative_angle: float | None = None
+    scheme: str = "second_order"
+    sections: tuple[Section, ...] = ()
+
+    def __post_init__(self) -> None:
+        length = _real(self.length, "wire.length")
+        if length <= 0.0:
+            raise ValueError(f"wire.length is {length}; the inserted length must be positive (mm).")
+        if isinstance(self.bars, bool) or not isinstance(self.bars, int | float) or self.bars != int(self.bars):
+            raise TypeError(f"wire.bars is {self.bars!r}; expected a whole number of bars.")
+        if int(self.bars) < 1:
+            raise ValueError(f"wire.bars is {self.bars}; use at least 1 bar (the paper uses 100).")
+        for name in ("youngs_modulus", "diameter"):
+            value = _real(getattr(self, name), f"wire.{name}")
+            if value <= 0.0:
+                raise ValueError(f"wire.{name} is {value}; it must be positive.")
+            object.__setattr__(self, name, value)
+        warn_modulus(self.youngs_modulus, "wire.youngs_modulus")
+        if self.moment_of_inertia is not None:
+            inertia = _real(self.moment_of_inertia, "wire.moment_of_inertia")
+            if inertia <= 0.0:
+                raise ValueError(f"wire.moment_of_inertia is {inertia}; give a positive I in mm⁴ or omit it.")
+            object.__setattr__(self, "moment_of_inertia", inertia)
+        if self.max_relative_angle is not None:
+            b2 = _real(self.max_relative_angle, "wire.max_relative_angle")
+            if b2 <= 0.0:
+                raise ValueError(f"wire.max_relative_angle is {b2}; give a positive bound in rad or omit it.")
+            object.__setattr__(self, "max_relative_angle", b2)
+        if self.scheme not in SCHEMES:
+            raise ValueError(f"wire.scheme is {self.scheme!r}; expected one of {', '.join(map(repr, SCHEMES))}.")
+        object.__setattr__(self, "length", length)
+        object.__setattr__(self, "bars", int(self.bars))
+        if isinstance(self.sections, Section) or not isinstance(self.sections, Sequence):
+            raise TypeError(f"wire.sections is {self.sections!r}; expected a sequence of guidewire.Section.")
+        for i, section in enumerate(self.sections):
+            if not isinstance(section, Section):
+                raise TypeError(f"wire.sections[{i}] is {type(section).__name__}; expected guidewire.Section.")
+        object.__setattr__(self, "sections", tuple(self.sections))
+
+    def with_length(self, length: float) -> Wire:
+        """The same wire inserted to ``length`` mm: the sections stay anchored at the tip (they move with the
+        material), so a longer wire has more of the base-side material."""
+        return replace(self, length=length)
+
+    def section_boundaries(self) -> tuple[float, ...]:
+        """Arc lengths from the base (mm, increasing, inside ``(0, L)``) where one section meets the next."""
+        ends = self.length - np.cumsum([sec.length for sec in self.sections])
+        return tuple(float(s) for s in sorted(ends) if S_ROUNDING * self.length < s < self.length * (1 - S_ROUNDING))
+
+    def properties_at(self, s: Any) -> WireProperties:
+        """Material values at arc lengths ``s`` (mm from the base; vectorised, shape of ``s`` ravelled).
+
+        A point exactly on a section boundary takes the tip-side section's values; callers evaluate bar midpoints.
+        """
+        s = np.atleast_1d(np.asarray(s, dtype=float)).ravel()
+        own = (self.youngs_modulus, self.diameter, self.second_moment, 0.0)
+        table = [own]
+        for sec in self.sections:
+            diameter = self.diameter if sec.diameter is None else sec.diameter
+            if sec.moment_of_inertia is not None:
+                inertia = sec.moment_of_inertia
+            elif sec.diameter is not None:
+                inertia = math.pi * sec.diameter**4 / 64.0
+            else:
+                inertia = self.second_moment
+            modulus = self.youngs_modulus if sec.youngs_modulus is None else sec.youngs_modulus
+            table.append((modulus, diameter, inertia, sec.rest_curvature))
+        values = np.array(table)  # row 0 the wire's own, row i section i (from the tip)
+        tip_distance = np.cumsum([0.0, *(sec.length for sec in self.sections)])  # section i: [start, end) from tip
+        from_tip = self.length - s
+        index = np.searchsorted(tip_distance, from_tip, side="left")  # 1..m inside a section, m+1 past them
+        index = np.where(index > len(self.sections), 0, np.maximum(index, 1) if self.sections else 0)
+        picked = values[index]
+        return WireProperties(picked[:, 0], picked[:, 1], picked[:, 2], picked[:, 3])
+
+    @property
+    def second_moment(self) -> float:
+        """``I`` in mm⁴: ``moment_of_inertia`` if given, else ``π d⁴ / 64``."""
+        if self.moment_of_inertia is not None:
+            return self.moment_of_inertia
+        return math.pi * self.diameter**4 / 64.0
+
+    @property
+    def bending_stiffness(self) -> float:
+        """``EI`` in N·mm²."""
+        return self.youngs_modulus * self.second_moment

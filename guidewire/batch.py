@@ -197,19 +197,29 @@ def solve_iter(
 
 def _run(scenes: list[Scene], executor: Executor | None, workers: int | None, progress: bool, chunksize: int,
          solve_options: dict[str, Any]) -> Iterator[tuple[int, BatchResult]]:
-    """The generator of :func:`solve_iter` (arguments checked)."""
+    """The generator of :func:`solve_iter` (arguments checked): one task per ``chunksize`` scenes."""
+    tasks = []
+    for start in range(0, len(scenes), chunksize):
+        indices = range(start, min(start + chunksize, len(scenes)))
+        if chunksize == 1:
+            tasks.append((solve_one, (scenes[start], solve_options), indices))
+        else:
+            tasks.append((solve_chunk, (scenes[indices.start:indices.stop], solve_options), indices))
+    return run_tasks(tasks, scenes, executor, workers, progress)
+
+
+def run_tasks(tasks: Sequence[tuple[Callable[..., Any], tuple[Any, ...], range]], scenes: Sequence[Scene],
+              executor: Executor | None, workers: int | None, progress: bool) -> Iterator[tuple[int, Any]]:
+    """Submit every ``(fn, args, indices)`` task and yield ``(index, result)`` for the items ``indices`` of each as it
+    completes (a task that the executor could not run: a :class:`SceneError` for each of its ``scenes``). Stopping
+    early cancels the tasks not yet started and, when the executor is the default one made here, shuts it down."""
     own = executor is None
     pool = default_executor(workers) if own else executor
     bar = _progress_bar(len(scenes), progress)
     futures: dict[Future[Any], range] = {}
     try:
-        for start in range(0, len(scenes), chunksize):
-            indices = range(start, min(start + chunksize, len(scenes)))
-            if chunksize == 1:
-                future = pool.submit(solve_one, scenes[start], solve_options)
-            else:
-                future = pool.submit(solve_chunk, scenes[indices.start:indices.stop], solve_options)
-            futures[future] = indices
+        for fn, args, indices in tasks:
+            futures[pool.submit(fn, *args)] = indices
         for future in as_completed(futures):
             indices = futures.pop(future)
             outcome = _outcome(future, [scenes[i] for i in indices])

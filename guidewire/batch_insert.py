@@ -4,11 +4,11 @@
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
-from concurrent.futures import Executor, Future, as_completed
+from concurrent.futures import Executor
 from dataclasses import replace
 from typing import Any
 
-from .batch import SceneError, _check_workers, _outcome, _progress_bar, default_executor, slim
+from .batch import SceneError, _check_workers, run_tasks, slim
 from .insertion import Insertion, insert
 from .scene import Scene
 
@@ -57,24 +57,7 @@ def insert_many(
     _check_workers(workers)
     if executor is not None and workers is not None:
         raise ValueError("give workers (the size of the default process pool) or executor, not both.")
-    own = executor is None
-    pool = default_executor(workers) if own else executor
-    bar = _progress_bar(len(jobs), progress)
-    futures: dict[Future[Any], int] = {}
-    results: list[InsertResult | None] = [None] * len(jobs)
-    try:
-        for i, (scene, lengths) in enumerate(jobs):
-            futures[pool.submit(insert_one, scene, lengths, options)] = i
-        for future in as_completed(futures):
-            i = futures.pop(future)
-            results[i] = _outcome(future, [jobs[i][0]])[0]
-            if bar is not None:
-                bar.update(1)
-    finally:
-        for future in futures:
-            future.cancel()
-        if bar is not None:
-            bar.close()
-        if own:
-            pool.shutdown(wait=True, cancel_futures=True)
-    return [r for r in results if r is not None]
+    scenes = [scene for scene, _ in jobs]
+    tasks = [(insert_one, (scene, lengths, options), range(i, i + 1)) for i, (scene, lengths) in enumerate(jobs)]
+    return [result for _, result in sorted(run_tasks(tasks, scenes, executor, workers, progress),
+                                           key=lambda pair: pair[0])]

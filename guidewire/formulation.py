@@ -66,6 +66,17 @@ def _diagonal(values: FloatArray) -> sp.csc_matrix:
     return sp.csc_matrix((values, index[:-1], index), shape=(n, n))
 
 
+def nonlinear_rows(value: Any, jac: Any, hess: Any, lb: FloatArray, ub: FloatArray) -> Any:
+    """Rows ``lb ≤ value(x) ≤ ub`` for :func:`sqp.minimize`, in the sign convention of :mod:`guidewire.blocks.base`
+    (λ ≥ 0 at an active lower bound): an SLSQP ``eq`` dict when every row is an equality, an ``ineq`` dict
+    ``value − lb ≥ 0`` when only lower bounds are finite, else a ``NonlinearConstraint``."""
+    if np.array_equal(lb, ub):
+        return {"type": "eq", "fun": lambda x: value(x) - lb, "jac": jac, "hess": hess}
+    if np.all(np.isposinf(ub)):
+        return {"type": "ineq", "fun": lambda x: value(x) - lb, "jac": jac, "hess": hess}
+    return NonlinearConstraint(value, lb, ub, jac=jac, hess=hess)
+
+
 def _curvature_term(chain: Any, phi: FloatArray, nodes: IntArray, weighted: FloatArray) -> FloatArray:
     """``Σ_r (∂p_{k_r}/∂φ)ᵀ W_r (∂p_{k_r}/∂φ)`` for 2 × 2 matrices ``W_r``, dense (n, n): with
     ``e_j = l_j (−sin φ_j, cos φ_j)`` and ``S_j = Σ_{k_r ≥ j} W_r`` (a suffix sum), entry ``(i, j)`` is
@@ -141,11 +152,7 @@ class ReducedLayout:
             out[np.diag_indices_from(out)] += chain.node_hessian_diagonal(phi, k, v[:, None] * d)
             return out
 
-        if np.array_equal(rows.lb, rows.ub):
-            return {"type": "eq", "fun": lambda phi: value(phi) - rows.lb, "jac": jac, "hess": hess}
-        if np.all(np.isposinf(rows.ub)):
-            return {"type": "ineq", "fun": lambda phi: value(phi) - rows.lb, "jac": jac, "hess": hess}
-        return NonlinearConstraint(value, rows.lb, rows.ub, jac=jac, hess=hess)
+        return nonlinear_rows(value, jac, hess, rows.lb, rows.ub)
 
     def angle_rows(self, rows: AngleRows) -> LinearConstraint:
         return LinearConstraint(rows.A, rows.lb, rows.ub)

@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
-from scipy.optimize import LinearConstraint, NonlinearConstraint
+from scipy.optimize import LinearConstraint
 
 import sqp
 
@@ -232,11 +232,9 @@ class FullLayout:
             data = (scale**2 * np.asarray(v, dtype=float)[:, None, None] * rows.hessians).ravel()
             return sp.csc_matrix((data, (hess_rows, hess_cols)), shape=(size, size))
 
-        if np.array_equal(rows.lb, rows.ub):
-            return {"type": "eq", "fun": lambda z: value(z) - rows.lb, "jac": jac, "hess": hess}
-        if np.all(np.isposinf(rows.ub)):
-            return {"type": "ineq", "fun": lambda z: value(z) - rows.lb, "jac": jac, "hess": hess}
-        return NonlinearConstraint(value, rows.lb, rows.ub, jac=jac, hess=hess)
+        from .formulation import nonlinear_rows
+
+        return nonlinear_rows(value, jac, hess, rows.lb, rows.ub)
 
     def angle_rows(self, rows: AngleRows) -> LinearConstraint:
         A = sp.coo_matrix(rows.A)

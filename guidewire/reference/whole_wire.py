@@ -123,7 +123,9 @@ def reference_shape(
     Notes
     -----
     Supported cases: no contacts and no wall (straight wire); no contacts and one active wall
-    (:func:`clamp_wall_free_end`); fully clamped contacts with inactive walls.
+    (:func:`clamp_wall_free_end`); fully clamped contacts with inactive walls.  With a
+    :class:`~guidewire.reference.sectioned.StiffnessProfile` the same cases (the free wire rests in its rest
+    shape), a wall only where it touches the free end alone.
     """
     return reference_shapes(base_point, base_angle, contacts, total_length, EI, walls)[0]
 

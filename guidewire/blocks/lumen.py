@@ -1,7 +1,8 @@
 """A vessel lumen: every node stays inside the vessel by the wire's radius (the contacts are found, not given).
 
-The lumen's wall is curved, so its exact row ``D(p_k) ≥ d/2`` (``D`` the signed distance to the wall, > 0 inside) is
-nonlinear in the node position. This block writes it, node by node, as the second-order model of ``D`` around the
+The lumen's wall is curved, so its exact row ``D(p_k) ≥ d_k/2`` (``D`` the signed distance to the wall, > 0 inside;
+``d_k`` the diameter of the section node ``k`` lies in, the larger one at a section boundary) is nonlinear in the node
+position. This block writes it, node by node, as the second-order model of ``D`` around the
 node's position ``p⁰_k`` when the row was made — ``D⁰ − n · (p − p⁰) + ½ (p − p⁰)ᵀ κ/(1 + κ D⁰) t tᵀ (p − p⁰)``
 with ``n`` the outward normal and ``t`` the tangent at the nearest wall point and ``κ`` the wall's curvature there
 (the exact Hessian of the distance to a curve of curvature ``κ``) — a quadratic
@@ -48,11 +49,22 @@ TOUCHING_BARS = 0.1
 """A node within this many bar lengths of its row's bound touches it (only those rows need to be exact)."""
 
 
+def node_diameters(model: Model, nodes: IntArray) -> FloatArray:
+    """Wire diameter (mm) at each node ``1..n`` of ``nodes``: that of the section the node lies in, the larger of the
+    two at a section boundary (the node joins a bar of each)."""
+    wire, lengths = model.scene.wire, model.chain.lengths
+    if not wire.sections:
+        return np.full(np.shape(nodes), wire.diameter)
+    bars = wire.properties_at(model.chain.arc_lengths[:-1] + 0.5 * lengths).diameter  # per bar, at its midpoint
+    return np.maximum(bars[np.minimum(nodes, lengths.size) - 1], bars[np.minimum(nodes, lengths.size - 1)])
+
+
 def _needed(model: Model, curvature: FloatArray, nodes: IntArray) -> FloatArray:
-    """Clearance each node needs (mm): the wire's radius plus the sag of its longer bar's chord on a bulging wall."""
+    """Clearance each node needs (mm): its radius (:func:`node_diameters`) plus the sag of its longer bar's chord on a
+    bulging wall."""
     lengths = model.chain.lengths
     bar = np.maximum(lengths[np.minimum(nodes, lengths.size) - 1], lengths[np.minimum(nodes, lengths.size - 1)])
-    return 0.5 * model.scene.wire.diameter + bar**2 * np.maximum(curvature, 0.0) / 8.0
+    return 0.5 * node_diameters(model, nodes) + bar**2 * np.maximum(curvature, 0.0) / 8.0
 
 
 @dataclass(frozen=True)
@@ -70,7 +82,7 @@ class Lumen(Block):
     curvatures : ndarray, shape (rows,)
         Wall curvature there (1/mm, > 0 where it bulges into the lumen).
     needed : ndarray, shape (rows,)
-        Clearance each node needs (mm): ``d/2`` plus the chord sag.
+        Clearance each node needs (mm): ``d_k/2`` (its section's diameter) plus the chord sag.
     """
 
     kind: ClassVar[str] = "lumen"

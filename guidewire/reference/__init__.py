@@ -15,7 +15,8 @@ part ``(s, L]`` exerts on the proximal part ``[0, s]``) is constant and
     EI\\,\\kappa' = F \\times t = F_x \\sin\\theta - F_y \\cos\\theta,
 
 with bending energy ``EI/2 ∫ κ² ds`` (N·mm).  The bending moment is ``M = EI κ`` (counter-clockwise
-positive) and ``EI κ²/2 + F·t`` is a first integral.
+positive) and ``EI κ²/2 + F·t`` is a first integral.  A wire with sections has ``M = EI (κ − κ₀)`` with its
+piecewise ``EI`` and rest curvature ``κ₀`` and ``M' = F × t`` (:mod:`~guidewire.reference.sectioned`).
 
 Modules
 -------
@@ -38,6 +39,14 @@ Modules
   contacts (segments decouple), a straight free tail, or the one-wall free-end case.  :func:`reference_shapes`
   lists every tied minimiser of a symmetric scene (mirror twins), for comparing a discrete solution with the
   nearest one.
+* :mod:`~guidewire.reference.sectioned` (with :mod:`~guidewire.reference.sectioned_ode`) -- a wire with sections:
+  piecewise-constant ``EI`` and rest curvature ``κ₀`` (:class:`StiffnessProfile`, e.g. a J-tip on a stiff shaft).
+  The state ``(x, y, θ, M)`` with ``M = EI (θ' − κ₀)`` and ``M' = F × t`` is continuous across a section boundary
+  (``θ'`` jumps); Newton multiple shooting with a break at every boundary.  Covered: fully clamped contacts
+  (:func:`sectioned_segment_equilibria`: every uniform branch continued to the sections, the lowest wins), a free
+  stretch (its rest shape) and one wall pushing the free end (:func:`sectioned_wall_shape`: continued from the rest
+  shape; a wire that would lie along the wall is declined).  With one stiffness and no rest curvature it reproduces
+  the uniform reference to about 1e-10 mm.
 * :mod:`~guidewire.reference.scene_reference` -- :func:`continuum_reference` of a :class:`~guidewire.Scene`
   (:class:`ContinuumReference`, or the reason there is none), :func:`nearest_shape` and the paper's Eq. 25
   node error :func:`node_errors` of a discrete solution.
@@ -52,6 +61,7 @@ Paper scenes (``EI = 64.65`` N·mm²): Table 1 ``θ_B = π/4`` 4.5551 N·mm; Fig
 from .clamped_segment import clamped_segment, clamped_segment_equilibria
 from .pieces import straight_shape
 from .scene_reference import ContinuumReference, continuum_reference, nearest_shape, node_errors
+from .sectioned import StiffnessProfile, sectioned_segment_equilibria, sectioned_wall_shape
 from .shapes import ContinuumReaction, ContinuumShape, ElasticaPiece
 from .wall import clamp_wall_free_end
 from .whole_wire import reference_shape, reference_shapes
@@ -61,6 +71,7 @@ __all__ = [
     "ContinuumReference",
     "ContinuumShape",
     "ElasticaPiece",
+    "StiffnessProfile",
     "clamp_wall_free_end",
     "clamped_segment",
     "clamped_segment_equilibria",
@@ -69,5 +80,7 @@ __all__ = [
     "node_errors",
     "reference_shape",
     "reference_shapes",
+    "sectioned_segment_equilibria",
+    "sectioned_wall_shape",
     "straight_shape",
 ]

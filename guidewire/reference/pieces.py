@@ -4,6 +4,7 @@ straight wire, assembly of pieces with the support reactions, and ordering of eq
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -67,16 +68,7 @@ def straight_piece(s0: float, length: float, point: Array, theta: float) -> Elas
 
 def shifted_piece(piece: ElasticaPiece, ds: float) -> ElasticaPiece:
     """The same piece starting ``ds`` further along the wire."""
-    return ElasticaPiece(
-        s0=piece.s0 + ds,
-        length=piece.length,
-        point=piece.point,
-        theta0=piece.theta0,
-        kappa0=piece.kappa0,
-        force=piece.force,
-        energy=piece.energy,
-        dense=piece.dense,
-    )
+    return replace(piece, s0=piece.s0 + ds)
 
 
 def straight_shape(p0: ArrayLike, theta0: float, length: float, EI: float) -> ContinuumShape:
@@ -122,20 +114,21 @@ def assemble(
     """Concatenate pieces and derive the reactions of the base clamp and the supports at piece ends.
 
     ``supports`` lists ``(s, kind)`` of the supports; each must coincide with the end of a piece.  A support
-    at the end of piece ``j`` exerts ``F_j - F_{j+1}`` and ``EI (κ_j(end) - κ_{j+1}(start))`` on the wire.
+    at the end of piece ``j`` exerts ``F_j - F_{j+1}`` and ``M_j(end) - M_{j+1}(start)`` on the wire, with
+    ``M = EI (κ - κ₀)`` in each piece's own ``EI`` and ``κ₀`` on a wire with sections.
     """
-    reactions = [
-        ContinuumReaction(0.0, np.array(base_point, dtype=float), -pieces[0].force, -EI * pieces[0].kappa0, "clamp")
-    ]
+    first = pieces[0]
+    reactions = [ContinuumReaction(0.0, np.array(base_point, dtype=float), -first.force,
+                                   -float(first.moment(first.kappa0, EI)), "clamp")]
     ends = np.array([p.s1 for p in pieces])
     for s, kind in supports:
         j = int(np.argmin(np.abs(ends - s)))
         point, _, kappa = pieces[j].end_state()
         force = pieces[j].force.copy()
-        moment = EI * kappa
+        moment = float(pieces[j].moment(kappa, EI))
         if j + 1 < len(pieces):
             force -= pieces[j + 1].force
-            moment -= EI * pieces[j + 1].kappa0
+            moment -= float(pieces[j + 1].moment(pieces[j + 1].kappa0, EI))
         reactions.append(ContinuumReaction(float(s), point, force, float(moment), kind))
     return ContinuumShape(
         length=length,

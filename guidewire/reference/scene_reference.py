@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .sectioned import StiffnessProfile
 from .shapes import Array, ContinuumShape
 from .whole_wire import reference_shapes
 
@@ -58,17 +59,19 @@ def continuum_reference(scene: Scene) -> tuple[ContinuumReference | None, str]:
     -------
     reference : ContinuumReference or None
         ``None`` when the reference does not cover the scene (e.g. position-only contacts, a free base angle,
-        walls active together with contacts, a wire with sections) or the scene is infeasible.
+        walls active together with contacts, a wall touching a sectioned wire elsewhere than at its free end) or
+        the scene is infeasible.  A wire with sections is solved with its piecewise ``EI`` and rest curvature
+        (:mod:`~guidewire.reference.sectioned`).
     reason : str
         ``""`` with a reference, else ``"no reference: "`` and the reason.
     """
+    stiffness: float | StiffnessProfile = scene.wire.bending_stiffness
     if scene.wire.sections:
-        return None, ("no reference: the continuum reference is for a uniform, straight-at-rest wire, and this wire "
-                      "has sections (wire.sections)")
+        profile = StiffnessProfile.of_wire(scene.wire)
+        stiffness = profile.bending_stiffness[0] if profile.uniform else profile
     try:
         shapes = reference_shapes(
-            scene.base.point, scene.base.angle, scene.contacts, scene.wire.length, scene.wire.bending_stiffness,
-            scene.walls,
+            scene.base.point, scene.base.angle, scene.contacts, scene.wire.length, stiffness, scene.walls,
         )
     except (NotImplementedError, ValueError) as exc:
         return None, f"no reference: {exc}"

@@ -69,6 +69,10 @@ class ElasticaPiece:
         Callable ``u -> (5, k)`` array (a ``scipy`` ``OdeSolution``, or several stitched together by multiple
         shooting) of the non-dimensional state ``(X, Y, theta, kappa_hat, E)`` with ``X = (x - x0) / length``,
         ``kappa_hat = kappa * length`` and ``E = ∫ kappa_hat² du``.
+    EI : float or None
+        The piece's own bending stiffness (N·mm²) on a wire with sections; None takes the shape's ``EI``.
+    rest_curvature : float
+        The piece's rest curvature ``κ₀`` (1/mm); its bending moment is ``EI (κ - κ₀)``.
     """
 
     s0: float
@@ -79,6 +83,8 @@ class ElasticaPiece:
     force: Array
     energy: float
     dense: Any
+    EI: float | None = None
+    rest_curvature: float = 0.0
 
     @property
     def s1(self) -> float:
@@ -105,6 +111,10 @@ class ElasticaPiece:
         x, y, th, k = self.state(np.array([self.s1]))
         return np.array([x[0], y[0]]), float(th[0]), float(k[0])
 
+    def moment(self, kappa: Any, EI: float) -> Any:
+        """Bending moment ``EI (κ - κ₀)`` (N·mm) at curvature ``kappa``; ``EI`` is used when the piece has none."""
+        return (EI if self.EI is None else self.EI) * (kappa - self.rest_curvature)
+
 
 @dataclass(frozen=True, eq=False)
 class ContinuumShape:
@@ -115,9 +125,9 @@ class ContinuumShape:
     length : float
         Total arc length (mm).
     energy : float
-        Bending energy ``EI/2 ∫ κ² ds`` (N·mm).
+        Bending energy ``EI/2 ∫ (κ - κ₀)² ds`` (N·mm).
     EI : float
-        Bending stiffness (N·mm²).
+        Bending stiffness (N·mm²); on a wire with sections the base's (each piece carries its own).
     pieces : tuple of ElasticaPiece
         Consecutive pieces covering ``[0, length]``.
     reactions : tuple of ContinuumReaction
@@ -125,8 +135,8 @@ class ContinuumShape:
 
     Notes
     -----
-    At a piece boundary ``s`` belongs to the following piece (the curvature may jump at an interior clamp;
-    position and angle are continuous).
+    At a piece boundary ``s`` belongs to the following piece (the curvature may jump at an interior clamp or a section
+    boundary; position and angle are continuous, and so is the moment at a section boundary).
     """
 
     length: float
@@ -140,7 +150,7 @@ class ContinuumShape:
         """Arc lengths where the pieces start, and the total length, shape ``(len(pieces) + 1,)``."""
         return np.array([p.s0 for p in self.pieces] + [self.length])
 
-    def _evaluate(self, s: ArrayLike) -> tuple[Array, Array, Array, Array, Array]:
+    def _evaluate(self, s: ArrayLike) -> tuple[Array, Array, Array, Array, Array, Array]:
         s = np.atleast_1d(np.asarray(s, dtype=float))
         if s.ndim != 1:
             raise ValueError(f"s must be a scalar or a 1-D array, got shape {s.shape}")
@@ -154,14 +164,15 @@ class ContinuumShape:
         s = np.clip(s, 0.0, self.length)
         starts = np.array([p.s0 for p in self.pieces])
         which = np.clip(np.searchsorted(starts, s, side="right") - 1, 0, len(self.pieces) - 1)
-        x, y, th, k = (np.empty(s.shape) for _ in range(4))
+        x, y, th, k, moment = (np.empty(s.shape) for _ in range(5))
         force = np.empty((s.size, 2))
         for j, piece in enumerate(self.pieces):
             mask = which == j
             if np.any(mask):
                 x[mask], y[mask], th[mask], k[mask] = piece.state(s[mask])
                 force[mask] = piece.force
-        return x, y, th, k, force
+                moment[mask] = piece.moment(k[mask], self.EI)
+        return x, y, th, k, force, moment
 
     def position(self, s: ArrayLike) -> Array:
         """Positions (mm) at arc lengths ``s``, shape ``(k, 2)``."""
@@ -177,8 +188,8 @@ class ContinuumShape:
         return self._evaluate(s)[3]
 
     def bending_moment(self, s: ArrayLike) -> Array:
-        """Bending moments ``EI κ`` (N·mm) at arc lengths ``s``, shape ``(k,)``."""
-        return self.EI * self._evaluate(s)[3]
+        """Bending moments ``EI (κ - κ₀)`` (N·mm) at arc lengths ``s``, shape ``(k,)``."""
+        return self._evaluate(s)[5]
 
     def internal_force(self, s: ArrayLike) -> Array:
         """Internal forces (N) at arc lengths ``s``, shape ``(k, 2)``: distal part on proximal part."""

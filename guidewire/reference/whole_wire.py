@@ -16,6 +16,7 @@ from numpy.typing import ArrayLike
 from .. import fields
 from .clamped_segment import clamped_segment_equilibria, segment_feasibility
 from .pieces import assemble, shifted_piece, straight_piece, straight_shape, ties
+from .sectioned import StiffnessProfile, sectioned_shapes
 from .shapes import Array, ContinuumShape, ElasticaPiece
 from .wall import max_wall_violation, unit_wall, wall_shapes
 
@@ -61,12 +62,23 @@ def _contacts(contacts: Iterable[Any], total_length: float) -> list[tuple[float,
     return out
 
 
+def _check_segments(base_point: Array, base_angle: float, clamps: list[tuple[float, Array, float]]) -> None:
+    """Every segment between consecutive clamps is checked before any is solved (ValueError naming it)."""
+    s_prev, p_prev, a_prev = 0.0, base_point, base_angle
+    for i, (s, point, angle) in enumerate(clamps):
+        try:
+            segment_feasibility(p_prev, a_prev, point, angle, s - s_prev)
+        except ValueError as exc:
+            raise ValueError(f"segment s = {s_prev:g} .. {s:g} (to contacts[{i}]): {exc}") from exc
+        s_prev, p_prev, a_prev = s, point, angle
+
+
 def reference_shape(
     base_point: ArrayLike,
     base_angle: float | None,
     contacts: Iterable[Any],
     total_length: float,
-    EI: float,
+    EI: float | StiffnessProfile,
     walls: Iterable[Any] = (),
 ) -> ContinuumShape:
     """Continuum reference of a whole scene: base clamp, fully clamped contacts, free tail, walls.
@@ -83,8 +95,9 @@ def reference_shape(
         lowest-energy :func:`clamped_segment`.  Beyond the last contact the wire is a straight free tail.
     total_length : float
         Inserted length ``L`` (mm).
-    EI : float
-        Bending stiffness (N·mm²).
+    EI : float or StiffnessProfile
+        Bending stiffness (N·mm²), or the sections of the wire (piecewise-constant ``EI`` and rest curvature,
+        :mod:`~guidewire.reference.sectioned`: the same cases, a wall only where it touches the free end).
     walls : iterable, optional
         Walls ``(normal, offset)`` (tuples, mappings or objects), allowed side ``normal · p ≤ offset``.
 
@@ -110,7 +123,9 @@ def reference_shape(
     Notes
     -----
     Supported cases: no contacts and no wall (straight wire); no contacts and one active wall
-    (:func:`clamp_wall_free_end`); fully clamped contacts with inactive walls.
+    (:func:`clamp_wall_free_end`); fully clamped contacts with inactive walls.  With a
+    :class:`~guidewire.reference.sectioned.StiffnessProfile` the same cases (the free wire rests in its rest
+    shape), a wall only where it touches the free end alone.
     """
     return reference_shapes(base_point, base_angle, contacts, total_length, EI, walls)[0]
 
@@ -120,7 +135,7 @@ def reference_shapes(
     base_angle: float | None,
     contacts: Iterable[Any],
     total_length: float,
-    EI: float,
+    EI: float | StiffnessProfile,
     walls: Iterable[Any] = (),
 ) -> list[ContinuumShape]:
     """Every lowest-energy continuum shape of a scene (ties within ``TIE_RTOL``), the default one first.
@@ -142,7 +157,8 @@ def reference_shapes(
         )
     base_angle = fields.real(base_angle, "base_angle")
     total_length = fields.real(total_length, "total_length", positive=True)
-    EI = fields.real(EI, "EI", positive=True)
+    profile = EI if isinstance(EI, StiffnessProfile) else None
+    EI = profile.bending_stiffness[0] if profile is not None else fields.real(EI, "EI", positive=True)
     clamps = _contacts(contacts, total_length)
     wall_list = [
         unit_wall(_field(w, i, "normal"), _field(w, i, "offset"), f"walls[{i}]") for i, w in enumerate(walls)
@@ -150,8 +166,11 @@ def reference_shapes(
     for i, (n, c) in enumerate(wall_list):
         if float(n @ base_point) > c + 1e-12 * max(1.0, abs(c)):
             raise ValueError(f"base_point lies beyond walls[{i}] by {float(n @ base_point) - c:.6g} mm")
+    _check_segments(base_point, base_angle, clamps)
 
-    if not clamps:
+    if profile is not None:
+        shapes = sectioned_shapes(base_point, base_angle, clamps, total_length, profile, wall_list, MAX_TIES)
+    elif not clamps:
         straight = straight_shape(base_point, base_angle, total_length, EI)
         active = [i for i, (n, c) in enumerate(wall_list) if max_wall_violation(straight, n, c, 3) > 0.0]
         if len(active) > 1:
@@ -163,13 +182,6 @@ def reference_shapes(
             n, c = wall_list[active[0]]
             shapes = ties(wall_shapes(base_point, base_angle, total_length, n, c, EI))
     else:
-        s_prev, p_prev, a_prev = 0.0, base_point, base_angle
-        for i, (s, point, angle) in enumerate(clamps):  # every segment is checked before any is solved
-            try:
-                segment_feasibility(p_prev, a_prev, point, angle, s - s_prev)
-            except ValueError as exc:
-                raise ValueError(f"segment s = {s_prev:g} .. {s:g} (to contacts[{i}]): {exc}") from exc
-            s_prev, p_prev, a_prev = s, point, angle
         options: list[list[list[ElasticaPiece]]] = []  # per segment: the pieces of each tied minimiser
         s_prev, p_prev, a_prev = 0.0, base_point, base_angle
         for s, point, angle in clamps:

@@ -536,3 +536,92 @@ def test_scene_reference_says_why_not():
     position_only = Scene(Wire(100.0, 20), Base((0.0, 0.0), 0.0), (Contact(100.0, (60.0, 40.0)),))
     reference, why = continuum_reference(position_only)
     assert reference is None and "has no angle" in why and "fully clamped" in why
+
+
+# ------------------------------------------------------------------------------------------------------------------
+# A wire with sections: piecewise-constant EI and rest curvature (issue 14)
+from guidewire.reference import StiffnessProfile, sectioned_wall_shape  # noqa: E402
+
+
+def _balance(shape):
+    """Net force and net moment about the origin of every support on the wire (both 0 in equilibrium)."""
+    force = sum(r.force for r in shape.reactions)
+    moment = sum(r.moment + r.point[0] * r.force[1] - r.point[1] * r.force[0] for r in shape.reactions)
+    return np.abs(force).max(), abs(moment)
+
+
+def test_sectioned_reference_with_one_stiffness_is_the_uniform_reference():
+    """Breaks that change nothing go through the sectioned shooting (state (x, y, θ, M), a node at every break) and
+    must reproduce the uniform reference: Table 1 θ_B = π/4 and a wall touched by the free end."""
+    scene = paper_scenes()["table1_pi_4"]
+    uniform = reference_shape(scene.base.point, scene.base.angle, scene.contacts, 100.0, EI)
+    profile = StiffnessProfile((30.0, 70.5), (EI, EI, EI), (0.0, 0.0, 0.0))
+    sectioned = reference_shape(scene.base.point, scene.base.angle, scene.contacts, 100.0, profile)
+    s = np.linspace(0.0, 100.0, 1001)
+    assert sectioned.energy == pytest.approx(uniform.energy, rel=1e-10)
+    assert np.abs(sectioned.position(s) - uniform.position(s)).max() < 1e-9
+    assert np.abs(sectioned.bending_moment(s) - uniform.bending_moment(s)).max() < 1e-9
+    for a, b in zip(sectioned.reactions, uniform.reactions, strict=True):
+        np.testing.assert_allclose(a.force, b.force, atol=1e-10)
+        assert a.moment == pytest.approx(b.moment, abs=1e-9)
+    wall = clamp_wall_free_end((0.0, 0.0), 0.3, 100.0, (0.0, 1.0), 15.0, EI)
+    assert wall.reactions[-1].s == 100.0  # the free end rests on the wall
+    on_wall = sectioned_wall_shape((0.0, 0.0), 0.3, 100.0, np.array([0.0, 1.0]), 15.0,
+                                   StiffnessProfile((40.0,), (EI, EI), (0.0, 0.0)))
+    assert on_wall.energy == pytest.approx(wall.energy, rel=1e-10)
+    assert np.abs(on_wall.position(s) - wall.position(s)).max() < 1e-9
+
+
+def test_sectioned_reference_of_a_free_j_tip_is_its_rest_shape():
+    """No contact, no wall: the shaft is straight and the tip an arc of radius 12.1 mm over 0.4π, exactly."""
+    radius, angle, length = 12.1, 0.4 * PI, 60.0
+    start = length - radius * angle
+    profile = StiffnessProfile((start,), (2463.0, 200.0), (0.0, 1.0 / radius))
+    shape = reference_shape((0.0, 0.0), 0.0, (), length, profile)
+    assert shape.energy == 0.0
+    s = np.linspace(start, length, 201)
+    np.testing.assert_allclose(np.hypot(*(shape.position(s) - [start, radius]).T), radius, atol=1e-10)
+    np.testing.assert_allclose(shape.tangent_angle(s), (s - start) / radius, atol=1e-10)
+    np.testing.assert_allclose(shape.position(np.linspace(0.0, start, 50))[:, 1], 0.0, atol=1e-12)
+    np.testing.assert_allclose(shape.bending_moment(np.linspace(0.0, length, 301)), 0.0, atol=1e-12)
+    np.testing.assert_allclose(shape.curvature([start - 1.0, start + 1.0]), [0.0, 1.0 / radius], atol=1e-12)
+
+
+def test_sectioned_reference_of_the_j_tip_scene_presses_the_tip_on_the_wall():
+    from guidewire import load_scene
+    from guidewire.paper import scene_path
+
+    reference, why = continuum_reference(load_scene(scene_path("j_tip")))
+    assert why == ""
+    shape = reference.shapes[0]
+    boundary = 60.0 - 12.1 * 0.4 * PI
+    assert [r.kind for r in shape.reactions] == ["clamp", "wall"] and shape.reactions[1].s == 60.0
+    assert shape.position([60.0])[0, 1] == pytest.approx(4.0, abs=1e-9)  # the tip on the wall (shooting to 1e-11 L)
+    s = np.linspace(0.0, 60.0, 6001)
+    assert shape.position(s)[:, 1].max() <= 4.0 + 1e-9  # and nothing beyond it
+    assert shape.reactions[1].force[1] < 0.0 and shape.reactions[1].force[0] == pytest.approx(0.0, abs=1e-14)
+    assert max(_balance(shape)) < 1e-9
+    # M = EI (θ' − κ₀) is continuous across the section boundary while θ' jumps by M (1/EI_tip − 1/EI_shaft) + κ₀
+    ei_shaft, ei_tip = 80_000.0 * PI * 0.89**4 / 64, 17_000.0 * PI * 0.7**4 / 64
+    below, above = boundary - 1e-9, boundary + 1e-9
+    moment = shape.bending_moment([below, above])
+    assert moment[0] == pytest.approx(moment[1], abs=1e-7)
+    jump = np.diff(shape.curvature([below, above]))[0]
+    assert jump == pytest.approx(moment[0] * (1 / ei_tip - 1 / ei_shaft) + 1 / 12.1, rel=1e-6)
+    # the moment is zero at the free end and the energy is ∫ M²/(2 EI)
+    assert shape.bending_moment([60.0])[0] == pytest.approx(0.0, abs=1e-9)
+    m = shape.bending_moment(s)
+    ei = np.where(s < boundary, ei_shaft, ei_tip)
+    assert shape.energy == pytest.approx(np.trapezoid(m**2 / (2 * ei), s), rel=1e-5)
+
+
+def test_sectioned_reference_declines_what_it_does_not_cover():
+    profile = StiffnessProfile((50.0,), (EI, 0.1 * EI), (0.0, 0.0))
+    with pytest.raises(NotImplementedError, match="tangential contact"):  # a soft tip that would lie along the wall
+        reference_shape((0.0, 0.0), 0.3, (), 100.0, profile, walls=[((0.0, 1.0), 2.0)])
+    with pytest.raises(TypeError, match="StiffnessProfile"):
+        sectioned_wall_shape((0.0, 0.0), 0.3, 100.0, np.array([0.0, 1.0]), 2.0, EI)
+    with pytest.raises(ValueError, match="breaks"):
+        StiffnessProfile((50.0, 40.0), (EI, EI, EI), (0.0, 0.0, 0.0))
+    with pytest.raises(ValueError, match="needs 2"):
+        StiffnessProfile((50.0,), (EI,), (0.0,))

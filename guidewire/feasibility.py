@@ -144,16 +144,24 @@ def vessel_positions(scene: Scene) -> str | None:
     vessel = scene.vessel
     if vessel is None:
         return None
-    half = 0.5 * scene.wire.diameter
     positions = _positions(scene)
     clearance = vessel.clearance(np.array([p for _, _, p, _ in positions]))
-    for (name, s, p, _), d in zip(positions, clearance.distance, strict=True):
+    for (name, s, p, _), d, half in zip(positions, clearance.distance, _half_diameters(scene, positions), strict=True):
         if d < half - 1e-9 * max(1.0, abs(half)):
             where = "outside the lumen" if d < 0.0 else "too close to the lumen's wall"
             return (f"{_point_label(name, p, s)} is {where}: its clearance is {d:.4g} mm but the wire needs d/2 = "
                     f"{_fmt(half)} mm; move it into the vessel (omit [base] to start at the entrance "
                     f"{_fmt_point(vessel.entrance_point)})")
     return None
+
+
+def _half_diameters(scene: Scene, positions: list[tuple[str, float, tuple[float, float], int]]) -> FloatArray:
+    """The wire's radius (mm) at each position's arc length: its section's, the larger of the two on a section
+    boundary (as the lumen rows take it, :func:`guidewire.blocks.lumen.node_diameters`)."""
+    wire = scene.wire
+    s = np.array([p[1] for p in positions])
+    below = np.maximum(s - 1e-9 * wire.length, 0.0)
+    return 0.5 * np.maximum(wire.properties_at(s).diameter, wire.properties_at(below).diameter)
 
 
 ENTRANCE_TOLERANCE = 1e-6

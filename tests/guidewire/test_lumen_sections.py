@@ -52,3 +52,19 @@ def test_a_single_section_wire_keeps_its_lumen():
     assert plain.success and same.success
     assert same.energy == pytest.approx(plain.energy, rel=1e-10)
     np.testing.assert_allclose(same.nodes, plain.nodes, atol=1e-8)
+
+
+def test_a_contact_point_is_checked_against_its_own_sections_radius():
+    """A tip contact 0.3 mm from the channel's wall: room for the 0.5 mm tip (radius 0.25), not for the 0.9 mm shaft;
+    the feasibility check takes the radius where the point lies on the wire."""
+    wire = Wire(40.0, 40, youngs_modulus=80_000.0, diameter=0.9,
+                sections=(Section(10.0, diameter=0.5, youngs_modulus=17_000.0),))
+    contact = guidewire.Contact(40.0, point=(39.0, H - 0.3))
+    scene = Scene(wire, Base((0.0, 0.0), 0.0), contacts=(contact,), vessel=CHANNEL)
+    sol = solve(scene)
+    assert sol.success
+    assert sol.nodes[-1] == pytest.approx([39.0, H - 0.3], abs=1e-8)
+    assert np.all(np.abs(sol.nodes[:, 1]) <= H - 0.5 * node_diameters(build_model(scene), np.arange(0, 41)) + 1e-8)
+    thick = scene.with_wire(sections=())  # the whole wire 0.9 mm: the point is too close to the wall
+    with pytest.raises(ValueError, match="too close to the lumen's wall"):
+        solve(thick)

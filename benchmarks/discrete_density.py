@@ -24,8 +24,13 @@ The order p of each scheme is the least-squares slope of log(mean error) against
 figure has four panels: time vs n/L (Fig. 10), error vs n/L with the fitted orders, error vs run time (one curve per
 scheme and solver: the Pareto front a user picks from; solved points only) and the L sweep.
 
-Usage: ``python benchmarks/discrete_density.py [--quick] [--repeats K] [--out DIR] [--limit S]``
-Writes ``discrete_density.{md,csv,png}`` (``discrete_density_quick.*`` with ``--quick``) in ``--out``.
+*Graded* (``--graded``, :mod:`_graded_front`): uniform against curvature-graded bars (the paper's "discrete density by
+curvature", ``solve(scene, bars=n, density="curvature")``) on every paper scene with a continuum reference, ours
+only: error against bars and run time, and the bars and time each needs for a given mean node error.
+
+Usage: ``python benchmarks/discrete_density.py [--graded] [--quick] [--repeats K] [--out DIR] [--limit S]``
+Writes ``discrete_density.{md,csv,png}`` (``discrete_density_graded.*`` with ``--graded``; ``…_quick.*`` with
+``--quick``) in ``--out``.
 """
 
 from __future__ import annotations
@@ -110,7 +115,16 @@ def fitted_order(rows: list[dict[str, Any]], x_key: str, y_key: str) -> tuple[fl
 def main() -> None:
     ap = A.parser(__doc__, quick_help="three n/L values, two lengths, one repeat (< 1 minute)", repeats=5,
                   limit=60.0, budget=100.0, budget_help="solve time (s) per solver for the whole run")
+    ap.add_argument("--graded", action="store_true", help="uniform against curvature-graded bars (_graded_front)")
     a = A.parse(ap)
+    if a.graded:
+        import _graded_front
+
+        with E.one_thread():
+            rows = _graded_front.run(a.repeats, a.quick)
+        _graded_front.write(rows, T.output_stem(a.out, "discrete_density_graded", a.quick), E.environment(),
+                            a.repeats, (0.01, 0.003))
+        return
     densities = QUICK_DENSITIES if a.quick else DENSITIES
     lengths = QUICK_LENGTHS if a.quick else LENGTHS
     repeats, limit = a.repeats, a.limit

@@ -114,10 +114,50 @@ def place_bars(length: float, bars: int, contact_s: Sequence[float], breakpoints
 
 
 def scene_bars(scene: Scene) -> tuple[FloatArray, IntArray]:
-    """:func:`place_bars` of a scene: a node at every contact and section boundary, positions bridged."""
+    """The bars of a scene: the wire's explicit ``bar_lengths`` (checked by :func:`explicit_bars`), else
+    :func:`place_bars` (a node at every contact and section boundary, positions bridged)."""
     contacts = scene.contacts
+    if scene.wire.bar_lengths is not None:
+        return explicit_bars(scene.wire.bar_lengths, [c.s for c in contacts], scene.wire.section_boundaries())
     return place_bars(scene.wire.length, scene.wire.bars, [c.s for c in contacts], scene.wire.section_boundaries(),
                       [c.point is not None for c in contacts])
+
+
+def explicit_bars(lengths: Sequence[float], contact_s: Sequence[float], breakpoints: Sequence[float] = (),
+                  rounding: float = 1e-9) -> tuple[FloatArray, IntArray]:
+    """Given bar lengths and the node of every contact; a contact or breakpoint that is not a node (within
+    ``rounding`` of the wire length) is a ValueError naming it.
+
+    Parameters
+    ----------
+    lengths : sequence of float
+        Bar lengths (mm), base first.
+    contact_s, breakpoints : sequence of float
+        Arc lengths that must be nodes: the contacts and the section boundaries (mm).
+    rounding : float
+        Relative tolerance on the node positions.
+
+    Returns
+    -------
+    lengths : ndarray, shape (n,)
+    contact_nodes : ndarray of int, shape (len(contact_s),)
+    """
+    lengths = np.asarray(lengths, dtype=float)
+    s_nodes = np.concatenate(([0.0], np.cumsum(lengths)))
+    tol = rounding * s_nodes[-1]
+    nodes = []
+    for what, values in (("contact", contact_s), ("section boundary", breakpoints)):
+        values = np.asarray(values, dtype=float)
+        k = np.clip(np.searchsorted(s_nodes, values), 1, s_nodes.size - 1)
+        k = np.where(np.abs(s_nodes[k - 1] - values) < np.abs(s_nodes[k] - values), k - 1, k)
+        off = np.abs(s_nodes[k] - values) > tol
+        if np.any(off):
+            i = int(np.argmax(off))
+            raise ValueError(f"wire.bar_lengths put no node at the {what} at s = {values[i]:.12g} mm (nearest node "
+                             f"at {s_nodes[k[i]]:.12g} mm); give lengths whose running sums hit every contact and "
+                             "section boundary, or omit bar_lengths.")
+        nodes.append(k)
+    return lengths, nodes[0].astype(np.int_)
 
 
 @dataclass(frozen=True)

@@ -120,8 +120,11 @@ def build_parser() -> argparse.ArgumentParser:
                      "from the extension; needs matplotlib)")
     run.add_argument("--bars", type=_positive_int, help="number of bars (default: the file's)")
     run.add_argument("--scheme", choices=SCHEMES, help="energy discretisation (default: the file's)")
-    run.add_argument("--tol-mm", type=float, help="solve to this estimated mean node error (mm) by doubling the "
-                     "bars (instead of --bars); the JSON reports error_estimate_mm")
+    run.add_argument("--tol-mm", type=float, help="solve to this estimated mean node error (mm) with bars graded by "
+                     "curvature (or doubled uniform bars with --density uniform; instead of --bars); the JSON "
+                     "reports error_estimate_mm")
+    run.add_argument("--density", choices=("uniform", "curvature"), help="bar layout: equal bars per piece, or "
+                     "graded by the curvature of a coarse solve (default: the file's wire.density)")
     _add_qp_solver(run)
     run.add_argument("--max-iter", type=_positive_int, default=500, help="SQP iteration limit")
     run.add_argument("--tol", type=float, default=1e-8, help="SQP tolerance")
@@ -237,7 +240,8 @@ def _solve(args: argparse.Namespace) -> int:
     scene = _load(args.scene)
     try:
         sol = solve(scene, scheme=args.scheme, bars=args.bars, qp_solver=_qp_solver(args), tol=args.tol,
-                    max_iter=args.max_iter, verbose=args.verbose, tol_mm=args.tol_mm)
+                    max_iter=args.max_iter, verbose=args.verbose, tol_mm=args.tol_mm,
+                    density=args.density)
     except (ValueError, TypeError) as exc:
         raise BadInput(f"{args.scene}: {exc}") from None
     print(_summary(sol))

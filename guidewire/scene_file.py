@@ -11,6 +11,8 @@ The format::
     moment_of_inertia = 0.01816  # I (mm⁴); optional, default π d⁴/64
     max_relative_angle = 0.2     # b₂ (rad); optional, omitted = no bounds
     scheme = "paper"             # optional, default "second_order"
+    density = "curvature"        # optional: bars graded by a coarse solve's curvature; default uniform
+    bar_lengths = [1.0, ...]     # optional: `bars` explicit bar lengths (mm) summing to L, a node at every contact
 
     [[wire.section]]             # zero or more, listed FROM THE TIP; the wire's own values hold base-side of them
     length = 19.0                # mm along the wire
@@ -60,7 +62,7 @@ from .vessel import Branch, Vessel
 
 _TOP_KEYS = {"name", "notes", "wire", "base", "contact", "wall", "vessel"}
 _WIRE_KEYS = {"length", "bars", "youngs_modulus", "diameter", "moment_of_inertia", "max_relative_angle", "scheme",
-              "section"}
+              "section", "density", "bar_lengths"}
 _SECTION_KEYS = {"length", "youngs_modulus", "diameter", "moment_of_inertia", "rest_curvature"}
 _BASE_KEYS = {"point", "angle", "name"}
 _CONTACT_KEYS = {"s", "point", "angle", "name"}
@@ -232,6 +234,10 @@ def scene_to_dict(scene: Scene) -> dict[str, Any]:
     if w.max_relative_angle is not None:
         wire["max_relative_angle"] = w.max_relative_angle
     wire["scheme"] = w.scheme
+    if w.density is not None:
+        wire["density"] = w.density
+    if w.bar_lengths is not None:
+        wire["bar_lengths"] = list(w.bar_lengths)
     if w.sections:
         wire["section"] = [
             {key: getattr(sec, key) for key in ("length", "youngs_modulus", "diameter", "moment_of_inertia",

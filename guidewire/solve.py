@@ -64,6 +64,7 @@ def solve(
     max_iter: int = 500,
     verbose: bool = False,
     tol_mm: float | None = None,
+    density: str | None = None,
 ) -> Solution:
     """Find the minimum-bending-energy shape of the wire in ``scene`` (paper §2.3) with :func:`sqp.minimize`.
 
@@ -96,6 +97,11 @@ def solve(
     tol_mm : float, optional
         Solve to this estimated mean node error (mm) instead of with ``bars``: doubled layouts and a Richardson
         estimate (:func:`guidewire.refine.solve_to_tolerance`); the answer carries ``error_estimate_mm``.
+    density : {"uniform", "curvature"}, optional
+        Bar layout; default ``scene.wire.density``. ``"curvature"``: the bars graded by the curvature of a coarse
+        solve (:mod:`guidewire.density`, :func:`guidewire.refine.solve_graded`); with ``tol_mm`` (where None means
+        ``"curvature"``) graded pairs, ``"uniform"`` doubled uniform bars. Ignored when the wire has explicit
+        ``bar_lengths``.
 
     Returns
     -------
@@ -115,14 +121,20 @@ def solve(
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene is {type(scene).__name__}; expected guidewire.Scene (see guidewire.load_scene).")
-    if tol_mm is not None:
-        if any(v is not None for v in (bars, initial_angles, initial_nodes, multipliers0)):
-            raise ValueError("tol_mm chooses the bars and the starts; do not pass bars, initial_angles, initial_nodes "
-                             "or multipliers0 with it.")
-        from .refine import solve_to_tolerance
+    density = scene.wire.density if density is None else density
+    if density not in (None, "uniform", "curvature"):
+        raise ValueError(f"density is {density!r}; expected 'uniform' or 'curvature' (or None: the wire's).")
+    if tol_mm is not None or (density == "curvature" and scene.wire.bar_lengths is None):
+        if any(v is not None for v in (initial_angles, initial_nodes, multipliers0)) or (tol_mm and bars):
+            raise ValueError("tol_mm and density='curvature' choose the bars and the starts; do not pass "
+                             "initial_angles, initial_nodes or multipliers0 (nor bars with tol_mm).")
+        from . import refine
 
-        return solve_to_tolerance(scene, tol_mm, scheme=scheme, hessian=hessian, layout=layout, qp_solver=qp_solver,
-                                  qp_options=qp_options, tol=tol, max_iter=max_iter, verbose=verbose)
+        kw = {"scheme": scheme, "hessian": hessian, "layout": layout, "qp_solver": qp_solver,
+              "qp_options": qp_options, "tol": tol, "max_iter": max_iter, "verbose": verbose}
+        if tol_mm is not None:
+            return refine.solve_to_tolerance(scene, tol_mm, density=density or "curvature", **kw)
+        return refine.solve_graded(scene, scene.wire.bars if bars is None else bars, **kw)
     if hessian not in ("exact", "bfgs"):
         raise ValueError(f"hessian is {hessian!r}; expected 'exact' or 'bfgs'.")
     if layout not in ("auto", *LAYOUTS):

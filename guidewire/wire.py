@@ -16,6 +16,13 @@ from .fields import warn_modulus
 SCHEMES = ("second_order", "paper")
 """Discretisations of the bending energy; see :mod:`guidewire.formulation`."""
 
+DENSITIES = ("uniform", "curvature")
+"""Bar layouts :func:`guidewire.solve` can choose (:mod:`guidewire.density`): equal bars within every piece, or bars
+graded by the curvature of a coarse solve (the paper's closing "discrete density by curvature")."""
+
+LAYOUT_ROUNDING = 1e-9
+"""Explicit ``bar_lengths`` may miss ``L`` by this fraction (and put a node this close to a contact)."""
+
 S_ROUNDING = 1e-12
 """A contact within this fraction of the wire length of its end is at the end (rounding in ``k·(L/n)``)."""
 
@@ -119,6 +126,15 @@ class Wire:
     sections : sequence of Section
         Stretches with their own properties, listed from the tip (see :class:`Section`); empty (default) is the
         uniform wire. Sections longer in total than ``length`` are allowed: only the inserted part counts.
+    density : {"uniform", "curvature"} or None
+        How :func:`guidewire.solve` lays out the bars when ``bar_lengths`` is None: ``"uniform"`` (equal bars
+        within every piece the contacts and sections cut, :func:`guidewire.chain.place_bars`), ``"curvature"``
+        (graded by a coarse solve's curvature, :mod:`guidewire.density`), or None (default): uniform for a given
+        bar count, curvature-graded when solving to a tolerance (``tol_mm``).
+    bar_lengths : sequence of float or None
+        Explicit bar lengths (mm, base first): ``bars`` positive values summing to ``length``, with a node at every
+        contact and section boundary (checked when solved). None (default): laid out by ``density``. A solve's
+        ``Solution.to_dict()["bar_lengths"]`` can be given back here.
     """
 
     length: float
@@ -129,6 +145,8 @@ class Wire:
     max_relative_angle: float | None = None
     scheme: str = "second_order"
     sections: tuple[Section, ...] = ()
+    density: str | None = None
+    bar_lengths: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         length = _real(self.length, "wire.length")
@@ -164,10 +182,18 @@ class Wire:
             if not isinstance(section, Section):
                 raise TypeError(f"wire.sections[{i}] is {type(section).__name__}; expected guidewire.Section.")
         object.__setattr__(self, "sections", tuple(self.sections))
+        if self.density is not None and self.density not in DENSITIES:
+            raise ValueError(f"wire.density is {self.density!r}; expected one of "
+                             f"{', '.join(map(repr, DENSITIES))} or None (uniform bars; graded with tol_mm).")
+        if self.bar_lengths is not None:
+            object.__setattr__(self, "bar_lengths", _bar_lengths(self.bar_lengths, self.bars, length))
 
     def with_length(self, length: float) -> Wire:
         """The same wire inserted to ``length`` mm: the sections stay anchored at the tip (they move with the
-        material), so a longer wire has more of the base-side material."""
+        material), so a longer wire has more of the base-side material. Explicit ``bar_lengths`` belong to one
+        inserted length: a new length drops them (the bars are laid out again by ``density``)."""
+        if self.bar_lengths is not None and length != self.length:
+            return replace(self, length=length, bar_lengths=None)
         return replace(self, length=length)
 
     def section_boundaries(self) -> tuple[float, ...]:
@@ -212,3 +238,24 @@ class Wire:
     def bending_stiffness(self) -> float:
         """``EI`` in N·mm²."""
         return self.youngs_modulus * self.second_moment
+
+
+def _bar_lengths(value: Any, bars: int, length: float) -> tuple[float, ...]:
+    """``wire.bar_lengths`` checked: ``bars`` finite positive values summing to ``length`` (within rounding)."""
+    if isinstance(value, str) or not isinstance(value, Sequence | np.ndarray):
+        raise TypeError(f"wire.bar_lengths is {value!r}; expected a sequence of bar lengths in mm, or None.")
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"wire.bar_lengths is {value!r}; expected numbers (mm).") from None
+    if arr.ndim != 1 or arr.size != bars:
+        raise ValueError(f"wire.bar_lengths has shape {arr.shape} but wire.bars is {bars}; give one length per bar "
+                         "(or set bars to their number).")
+    if not np.all(np.isfinite(arr)) or np.any(arr <= 0.0):
+        raise ValueError("wire.bar_lengths must be finite and positive (mm); "
+                         f"got {arr[~(np.isfinite(arr) & (arr > 0.0))][:3].tolist()}.")
+    total = float(arr.sum())
+    if abs(total - length) > LAYOUT_ROUNDING * length:
+        raise ValueError(f"wire.bar_lengths sum to {total:.12g} mm but wire.length is {length:.12g} mm; the bars "
+                         "must cover the inserted wire exactly.")
+    return tuple(float(v) for v in arr)

@@ -27,7 +27,7 @@ from scipy.optimize import LinearConstraint, NonlinearConstraint
 
 from .blocks import BLOCK_TYPES, AngleRows, Block, NodeRows
 from .blocks.base import row_violation
-from .model import Model, build_model
+from .model import Model, ModelReuse, build_model
 from .scene import SCHEMES, Scene
 
 FloatArray = NDArray[np.float64]
@@ -327,6 +327,7 @@ def formulate(
     initial_nodes: Any = None,
     wall_nodes: Any = None,
     check: bool = True,
+    reuse: ModelReuse | None = None,
 ) -> Formulation:
     """Turn ``scene`` into the arguments of :func:`sqp.minimize`.
 
@@ -352,6 +353,9 @@ def formulate(
         set with every node found violating a wall.
     check : bool
         Check the scene's feasibility first (:func:`guidewire.feasibility.check_feasible`).
+    reuse : ModelReuse, optional
+        Keep what the model of the scene formulated last through it shares with this one (bar layout, energy,
+        energy Hessian; see :class:`guidewire.model.ModelReuse`): the same formulation, built faster.
 
     Returns
     -------
@@ -367,8 +371,9 @@ def formulate(
     if scheme is not None:
         if scheme not in SCHEMES:
             raise ValueError(f"scheme is {scheme!r}; expected one of {', '.join(map(repr, SCHEMES))}.")
-        scene = scene.with_scheme(scheme)
-    if bars is not None:
+        if scheme != scene.wire.scheme:
+            scene = scene.with_scheme(scheme)
+    if bars is not None and (type(bars) is not int or bars != scene.wire.bars):  # (the same bars: the same scene)
         scene = scene.with_bars(bars)
     if initial_angles is not None and initial_nodes is not None:
         raise ValueError("pass initial_angles or initial_nodes, not both.")
@@ -376,7 +381,7 @@ def formulate(
         from .feasibility import check_feasible
 
         check_feasible(scene)
-    model = build_model(scene, initial_angles, initial_nodes)
+    model = build_model(scene, initial_angles, initial_nodes, reuse)
     working_set = _working_set(wall_nodes)
     blocks = [block for kind in BLOCK_TYPES for block in kind.build(model, working_set)]
     return assemble(model, layout, blocks)

@@ -16,6 +16,7 @@ every earlier angle) and ``hess(φ, v)`` (diagonal); an angle-row block is a ``L
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol
@@ -27,7 +28,7 @@ from scipy.optimize import LinearConstraint, NonlinearConstraint
 
 from .blocks import BLOCK_TYPES, AngleRows, Block, NodeRows
 from .blocks.base import row_violation
-from .model import Model, build_model
+from .model import Model, ModelReuse, build_model
 from .scene import SCHEMES, Scene
 
 FloatArray = NDArray[np.float64]
@@ -87,9 +88,18 @@ def _curvature_term(chain: Any, phi: FloatArray, nodes: IntArray, weighted: Floa
     suffix = np.cumsum(acc[::-1], axis=0)[::-1][1:]  # row j (bar j+1): rows at nodes ≥ j+1
     e = chain.lengths[:, None] * np.column_stack((-np.sin(phi), np.cos(phi)))
     w = np.einsum("jab,jb->ja", suffix, e)  # S_j e_j, (n, 2): O(n)
-    upper = e @ w.T  # e_iᵀ S_j e_j, one (n × 2)(2 × n) product: right for j ≥ i
+    out = e @ w.T  # e_iᵀ S_j e_j, one (n × 2)(2 × n) product: right for j ≥ i
+    np.copyto(out, out.T.copy(), where=_below_diagonal(n))  # mirrored below (3.6x faster than np.where at n = 250)
+    return out
+
+
+@functools.lru_cache(maxsize=8)
+def _below_diagonal(n: int) -> NDArray[np.bool_]:
+    """The (n, n) mask of the entries below the diagonal, read-only (kept: a sequence solves at a few sizes)."""
     index = np.arange(n)
-    return np.where(index[:, None] <= index[None, :], upper, upper.T)
+    mask = index[:, None] > index[None, :]
+    mask.flags.writeable = False
+    return mask
 
 
 @dataclass(frozen=True)
@@ -327,6 +337,7 @@ def formulate(
     initial_nodes: Any = None,
     wall_nodes: Any = None,
     check: bool = True,
+    reuse: ModelReuse | None = None,
 ) -> Formulation:
     """Turn ``scene`` into the arguments of :func:`sqp.minimize`.
 
@@ -352,6 +363,9 @@ def formulate(
         set with every node found violating a wall.
     check : bool
         Check the scene's feasibility first (:func:`guidewire.feasibility.check_feasible`).
+    reuse : ModelReuse, optional
+        Keep what the model of the scene formulated last through it shares with this one (bar layout, energy,
+        energy Hessian; see :class:`guidewire.model.ModelReuse`): the same formulation, built faster.
 
     Returns
     -------
@@ -367,8 +381,9 @@ def formulate(
     if scheme is not None:
         if scheme not in SCHEMES:
             raise ValueError(f"scheme is {scheme!r}; expected one of {', '.join(map(repr, SCHEMES))}.")
-        scene = scene.with_scheme(scheme)
-    if bars is not None:
+        if scheme != scene.wire.scheme:
+            scene = scene.with_scheme(scheme)
+    if bars is not None and (type(bars) is not int or bars != scene.wire.bars):  # (the same bars: the same scene)
         scene = scene.with_bars(bars)
     if initial_angles is not None and initial_nodes is not None:
         raise ValueError("pass initial_angles or initial_nodes, not both.")
@@ -376,7 +391,7 @@ def formulate(
         from .feasibility import check_feasible
 
         check_feasible(scene)
-    model = build_model(scene, initial_angles, initial_nodes)
+    model = build_model(scene, initial_angles, initial_nodes, reuse)
     working_set = _working_set(wall_nodes)
     blocks = [block for kind in BLOCK_TYPES for block in kind.build(model, working_set)]
     return assemble(model, layout, blocks)

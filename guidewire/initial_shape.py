@@ -182,25 +182,60 @@ def _free_part_angles(scene: Scene, start: FloatArray, angle: float, lengths: Fl
     if not scene.walls:
         return np.full(lengths.size, angle)
     total = float(lengths.sum())
-    magnitudes = _TRIAL_CURVATURES * 4.0 * math.pi / total
-    kappa = np.concatenate((magnitudes, -magnitudes[1:]))  # (T,)
-    order = np.argsort(np.abs(kappa), kind="stable")
-    kappa = kappa[order]
-    phi = angle + kappa[:, None] * s_mid[None, :]  # (T, m)
-    nodes = start + np.cumsum(lengths[None, :, None] * np.stack((np.cos(phi), np.sin(phi)), axis=-1), axis=1)
-    gap = np.full(kappa.size, np.inf)  # the least distance of any node inside any wall, per trial curvature
-    for wall in scene.walls:
-        (nx, ny), offset = wall.unit()
-        gap = np.minimum(gap, np.min(offset - (nodes[..., 0] * nx + nodes[..., 1] * ny), axis=1))
-    no_loop = np.abs(kappa) * total <= MAX_FREE_TURNING  # a longer arc overlaps itself: a coil, not a wire
-    feasible = (gap >= 0.0) & no_loop
+    kappa = _trial_curvatures(total)
+    kappa = kappa[np.abs(kappa) * total <= MAX_FREE_TURNING]  # a longer arc overlaps itself: a coil, not a wire
+    gap = _wall_gaps(scene, start, angle, kappa, s_mid, lengths)
+    feasible = gap >= 0.0
     if not feasible.any():  # nothing clears the walls without looping: the least violating arc that does not loop
-        return phi[int(np.argmax(np.where(no_loop, gap, -np.inf)))]
+        gap = _wall_gaps(scene, start, angle, kappa, s_mid, lengths, lazy=False)
+        return angle + kappa[int(np.argmax(gap))] * s_mid
     # the least |κ| that clears the walls; of its two signs (when both do) the one farther from them, so that the
     # start of a mirrored scene is the mirrored start
     least = np.flatnonzero(feasible & (np.abs(kappa) == np.abs(kappa[int(np.argmax(feasible))])))
     pick = int(least[np.argmax(gap[least])])
     return angle + min(WALL_MARGIN * abs(kappa[pick]), MAX_FREE_TURNING / total) * np.sign(kappa[pick]) * s_mid
+
+
+def _trial_curvatures(total: float) -> FloatArray:
+    """The trial curvatures (1/mm) for a free part of length ``total``, by increasing ``|κ|`` (0, then each magnitude
+    positive before negative)."""
+    magnitudes = _TRIAL_CURVATURES * 4.0 * math.pi / total
+    kappa = np.concatenate((magnitudes, -magnitudes[1:]))  # (T,)
+    return kappa[np.argsort(np.abs(kappa), kind="stable")]
+
+
+FREE_CHUNK_NODES = 32
+"""Nodes per pass of the lazy wall check of :func:`_wall_gaps` (the first pass; each later one twice the last)."""
+
+
+def _wall_gaps(scene: Scene, start: FloatArray, angle: float, kappa: FloatArray, s_mid: FloatArray,
+               lengths: FloatArray, lazy: bool = True) -> FloatArray:
+    """The least distance inside every wall of the nodes of each trial arc ``φ = angle + κ s`` from ``start`` (mm).
+
+    Lazy (default): the nodes are visited from the pose outwards in passes (:data:`FREE_CHUNK_NODES`, doubling), and
+    an arc leaves the search at the first pass that puts a node outside a wall; its gap is then the (negative)
+    least distance seen so far, which decides infeasibility as well as the full one does. The arcs that clear every
+    wall get their exact gap: bit for bit the one of the eager evaluation (``lazy=False``, every arc over every
+    node), since every node is the same running sum of the same bar vectors."""
+    m = lengths.size
+    walls = [wall.unit() for wall in scene.walls]
+    gap = np.full(kappa.size, np.inf)
+    rows = np.arange(kappa.size)
+    last = np.zeros((kappa.size, 2))  # the running sum of bar vectors up to the previous pass
+    lo, width = 0, (FREE_CHUNK_NODES if lazy else m)
+    while lo < m and rows.size:
+        part = slice(lo, lo + width)
+        phi = angle + kappa[rows, None] * s_mid[None, part]
+        steps = lengths[None, part, None] * np.stack((np.cos(phi), np.sin(phi)), axis=-1)
+        sums = np.cumsum(np.concatenate((last[rows, None, :], steps), axis=1), axis=1)[:, 1:]
+        nodes = start + sums
+        for (nx, ny), offset in walls:
+            gap[rows] = np.minimum(gap[rows], np.min(offset - (nodes[..., 0] * nx + nodes[..., 1] * ny), axis=1))
+        last[rows] = sums[:, -1]
+        lo, width = lo + width, 2 * width
+        if lazy:
+            rows = rows[gap[rows] >= 0.0]
+    return gap
 
 
 def _lumen_angles(vessel: Any, chain: BarChain, base_angle: float | None) -> FloatArray:

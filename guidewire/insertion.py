@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .chain import scene_bars
+from .model import ModelReuse
 from .result import UNITS, Solution
 from .scene import Scene
 from .scene_file import scene_to_dict
@@ -136,7 +137,8 @@ def insert(scene: Scene, lengths: Iterable[float], *, predictor: str = "track", 
         ``ΔL``, the new length along the centreline at the entrance.
     **options
         Passed to :func:`guidewire.solve` (``hessian``, ``qp_solver``, ``tol``, ``max_iter``, ...); not ``bars``,
-        ``initial_angles`` or ``multipliers0`` (the insertion sets them).
+        ``initial_angles`` or ``multipliers0`` (the insertion sets them); ``reuse=None`` builds every step's program
+        anew (default: a :class:`guidewire.model.ModelReuse` shared by the steps).
 
     Returns
     -------
@@ -160,6 +162,7 @@ def insert(scene: Scene, lengths: Iterable[float], *, predictor: str = "track", 
         if name in options:
             raise ValueError(f"{name} is set by insert() for every step; pass the scene with the bar density you want.")
     density = scene.wire.bars / scene.wire.length
+    options.setdefault("reuse", ModelReuse())
     steps: list[Solution] = []
     started: list[str] = []
     for length in values:

@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from .model import ModelReuse
 from .result import Solution
 from .scene import Scene
 from .solve import solve
@@ -56,7 +57,9 @@ def solve_sequence(scenes: Iterable[Scene], **options: Any) -> SequenceResult:
     Each solve after the first starts from the previous shape (bar angles re-sampled by relative arc length when
     the bar layout changes) and from the previous multipliers (matched by constraint block and row), so a small
     change of the scene (a contact moving along a wall, the inserted length growing) costs one or two Newton steps.
-    Along a steady change (the last two changes parallel) both are extrapolated (a secant predictor).
+    Along a steady change (the last two changes parallel) both are extrapolated (a secant predictor). What
+    consecutive scenes share of their programs is built once (:class:`guidewire.model.ModelReuse`: the bar layout
+    and the energy with its Hessian when only targets move), giving the same answers as building each step anew.
 
     Parameters
     ----------
@@ -64,7 +67,7 @@ def solve_sequence(scenes: Iterable[Scene], **options: Any) -> SequenceResult:
         The steps, in order.
     **options
         Passed to :func:`guidewire.solve` (``scheme``, ``bars``, ``hessian``, ``qp_solver``, ``tol``, ...);
-        ``initial_angles`` and ``multipliers0`` of the first step only.
+        ``initial_angles`` and ``multipliers0`` of the first step only; ``reuse=None`` builds every step anew.
 
     Returns
     -------
@@ -74,6 +77,7 @@ def solve_sequence(scenes: Iterable[Scene], **options: Any) -> SequenceResult:
         the sequence with the steps solved so far and the reason in ``error``.
     """
     out: list[Solution] = []
+    options.setdefault("reuse", ModelReuse())
     for step, scene in enumerate(scenes):
         if out:
             prev = out[-1]

@@ -65,6 +65,7 @@ def solve(
     verbose: bool = False,
     tol_mm: float | None = None,
     density: str | None = None,
+    reuse: Any = None,
 ) -> Solution:
     """Find the minimum-bending-energy shape of the wire in ``scene`` (paper §2.3) with :func:`sqp.minimize`.
 
@@ -102,6 +103,8 @@ def solve(
         solve (:mod:`guidewire.density`, :func:`guidewire.refine.solve_graded`); with ``tol_mm`` (where None means
         ``"curvature"``) graded pairs, ``"uniform"`` doubled uniform bars. Ignored when the wire has explicit
         ``bar_lengths``.
+    reuse : guidewire.model.ModelReuse, optional
+        Keep what the last scene formulated through it shares with ``scene`` (:func:`guidewire.solve_sequence`).
 
     Returns
     -------
@@ -144,7 +147,7 @@ def solve(
     start = time.perf_counter()
     with _blas().limit(limits=BLAS_THREADS, user_api="blas"):
         return _solve(scene, start, scheme, bars, initial_angles, initial_nodes, hessian, layout, multipliers0,
-                      qp_solver, qp_options, tol, max_iter, verbose)
+                      qp_solver, qp_options, tol, max_iter, verbose, reuse)
 
 
 #: BLAS threads while solving: the matrices are small (≤ 300 variables dense; the full space is sparse), where a
@@ -163,12 +166,12 @@ def _blas() -> Any:
 
 def _solve(scene: Scene, start: float, scheme: str | None, bars: int | None, initial_angles: Any,
            initial_nodes: Any, hessian: str, layout: str, multipliers0: Any, qp_solver: str | None,
-           qp_options: dict[str, Any] | None, tol: float, max_iter: int, verbose: bool) -> Solution:
+           qp_options: dict[str, Any] | None, tol: float, max_iter: int, verbose: bool, reuse: Any = None) -> Solution:
     n_bars = scene.wire.bars if bars is None else bars
     if layout == "auto":
         layout = choose_layout(n_bars, hessian, scene) if isinstance(n_bars, int) else "reduced"
     form = formulate(scene, layout=layout, scheme=scheme, bars=bars, initial_angles=initial_angles,
-                     initial_nodes=initial_nodes, wall_nodes="near" if layout == "reduced" else None)
+                     initial_nodes=initial_nodes, wall_nodes="near" if layout == "reduced" else None, reuse=reuse)
     options = {"qp_solver": None if qp_solver == "auto" else qp_solver, "qp_options": qp_options, "tol": tol,
                "max_iter": max_iter, "verbose": verbose}
     if options["qp_solver"] is None:

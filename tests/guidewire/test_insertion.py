@@ -82,3 +82,24 @@ def test_cli_insert(tmp_path):
     gif = subprocess.run([sys.executable, "-m", "guidewire", "insert", scene, "--to", "120", "--step", "5", "--gif",
                           str(tmp_path / "a.png")], capture_output=True, text=True)
     assert gif.returncode == 2 and "not a .gif" in gif.stderr
+
+
+def test_insertion_with_a_shared_model_reuse_matches_building_every_step_anew():
+    """Through the bend vessel: ``insert`` with its :class:`ModelReuse` (the default) gives the shapes (to 1e-9 mm),
+    energies and iteration counts of ``reuse=None``, and every step is inside the lumen without crossing bars."""
+    from pathlib import Path
+
+    import guidewire
+
+    scene = guidewire.load_scene(Path(guidewire.__file__).parent / "scenes" / "vessels" / "bend.toml")
+    start = scene.with_wire(length=5.0, bars=5)
+    lengths = np.arange(5.0, 41.0, 5.0)
+    kept, fresh = insert(start, lengths), insert(start, lengths, reuse=None)
+    assert kept.complete and fresh.complete
+    for a, b in zip(kept.steps, fresh.steps, strict=True):
+        assert a.success and b.success and a.n_bars == b.n_bars
+        np.testing.assert_allclose(a.nodes, b.nodes, rtol=0.0, atol=1e-9)
+        assert a.energy == pytest.approx(b.energy, rel=1e-12) and a.iterations == b.iterations
+        assert a.max_violation <= 1e-8  # every node inside the lumen by the wire's radius (checked at every node)
+        assert np.all(scene.vessel.clearance(a.nodes[1:]).distance >= 0.5 * scene.wire.diameter - 1e-6)
+        assert crossing_bars(a.nodes) is None

@@ -56,3 +56,20 @@ def test_secant_factor_only_for_parallel_changes():
     assert _secant_factor(a, c, c) == 0.0  # no change
     assert _secant_factor(a, b, replace(c, contacts=(replace(c.contacts[0], point=(60.0, 45.0)),))) == 0.0
     assert _secant_factor(a, b, b.with_bars(50)) == 0.0  # another layout
+
+
+def test_reused_models_give_the_answers_of_models_built_anew():
+    """``solve_sequence`` keeps the bar layout and the energy between steps when only targets move: the same shapes
+    (to 1e-9 mm), energies and iteration counts as building every step's program anew (``reuse=None``)."""
+    from guidewire.model import ModelReuse
+
+    scenes = _sliding(6)
+    reuse = ModelReuse()
+    kept = guidewire.solve_sequence(scenes, reuse=reuse)
+    fresh = guidewire.solve_sequence(scenes, reuse=None)
+    assert reuse.hits["layout"] == reuse.hits["energy"] == len(scenes) - 1  # every step after the first kept both
+    for a, b in zip(kept, fresh, strict=True):
+        assert a.success and b.success
+        np.testing.assert_allclose(a.nodes, b.nodes, rtol=0.0, atol=1e-9)
+        assert a.energy == pytest.approx(b.energy, rel=1e-12)
+        assert a.iterations == b.iterations

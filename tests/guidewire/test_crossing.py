@@ -31,6 +31,18 @@ def test_first_crossing_matches_brute_force_on_random_walks(seed):
         assert crossing_bars(p) == _brute(p)
 
 
+@pytest.mark.parametrize("seed", range(3))
+def test_the_monotone_shortcut_agrees_with_brute_force_near_a_half_turn(seed):
+    """Chains turning by 0.8π–2.2π in all (bends, hooks, loops; first and last bars sometimes parallel): the O(n)
+    answer for chains that advance along one direction agrees with the pairwise test."""
+    rng = np.random.default_rng(100 + seed)
+    for total in np.linspace(0.8 * np.pi, 2.2 * np.pi, 30):
+        turns = rng.uniform(0.0, 2.0, 40)
+        angles = np.cumsum(turns * total / turns.sum()) + rng.normal(0.0, 0.05, 40)
+        p = np.vstack([[0.0, 0.0], np.cumsum(np.c_[np.cos(angles), np.sin(angles)], axis=0)])
+        assert crossing_bars(p) == _brute(p)
+
+
 def test_shapes_that_do_and_do_not_cross():
     t = np.linspace(0.0, 4.0 * np.pi, 200)
     assert crossing_bars(np.c_[np.cos(t), np.sin(t)]) is not None  # two turns of one circle: a coil

@@ -68,6 +68,7 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
             return Search(mu=mu)
     alpha = 1.0
     tried_soc = not options.second_order_correction or rows.lb.size == 0
+    v_lin = rows.violation(st.pt.c + Jd) if not tried_soc else None
     nonfinite: str | None = None
     tried = alpha
     while alpha >= MIN_STEP_LENGTH:
@@ -83,7 +84,7 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
             if der.finite:
                 return Search(trial, der, alpha, False, mu=mu)
             nonfinite, phi = ev.nonfinite_source(trial, der), np.inf  # shorten the step as for a NaN value
-        if not tried_soc:
+        if not tried_soc and _curvature_rejected(trial, v_lin, mu, phi0 + ARMIJO * D):
             tried_soc = True
             corrected = second_order_correction(problem, options, ev, st, d, trial)
             if corrected is not None and merit(corrected.f, corrected.c, rows, mu) <= phi0 + ARMIJO * D:
@@ -104,3 +105,12 @@ def merit_search(problem: Problem, options: Options, ev: Evaluator, st: State, q
             float(np.max(np.abs(qp.lam_nl), initial=0.0)), 1e-12):
         search = line_search(problem, options, ev, st, qp.d, np.abs(qp.lam_nl))
     return search
+
+
+def _curvature_rejected(trial: Point, v_lin: Array, mu: Array, accept: float) -> bool:
+    """Whether a rejected full step would have been accepted with the violation its linearisation predicts
+    (``v_lin``, per row) instead of the one found at ``trial``: the constraints' curvature rejected it, which a
+    second-order correction removes (the Maratos effect; Nocedal & Wright §15.5, §18.3). A step whose objective alone
+    fails the test ``accept`` was rejected for the objective's sake, which a correction of the constraint values,
+    a change of second order in the step, does not repair."""
+    return bool(trial.finite and trial.f + mu @ v_lin <= accept)

@@ -226,7 +226,7 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
         assert failed is not None
         return failed, False
     hessian = hessian_strategy(problem, B0, lam0)
-    st = replace(st, B=hessian.initial())
+    st = replace(st, B=hessian.initial(st))
     monitor = Monitor(problem, options.tol, options.max_iter, st.pt, max_violation(problem, st.pt.x, st.pt.c, st.pt.r))
     history: list[IterationRecord] = []
     rho = 0.0  # the elastic QP's slack price

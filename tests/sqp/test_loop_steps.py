@@ -62,7 +62,8 @@ def test_damped_bfgs_strategy_matches_scipys_damped_update(curvature):
                             (), None)
     B0 = np.diag([1.0, 2.0, 3.0, 4.0])
     strategy = DampedBFGS(problem, B0)
-    ev, st = _state(problem, np.ones(n), B=strategy.initial())
+    ev, st = _state(problem, np.ones(n))
+    st = State(st.pt, st.der, strategy.initial(st), st.mu)
     new = Evaluator(problem).derivatives(ev.point(np.ones(n) - 0.3 * np.arange(n)))
     s = -0.3 * np.arange(n)
     qp = _qp(problem, s, [])
@@ -80,13 +81,28 @@ def test_damped_bfgs_strategy_matches_scipys_damped_update(curvature):
 def test_identity_start_is_rescaled_once_by_shanno_phua():
     problem = build_problem(lambda x: 2.0 * x @ x, [1.0, 1.0], lambda x: 4.0 * x, None, [], (), None)
     strategy = DampedBFGS(problem, None)
-    ev, st = _state(problem, [1.0, 1.0], B=strategy.initial())
+    ev, st = _state(problem, [1.0, 1.0])
+    st = State(st.pt, st.der, strategy.initial(st), st.mu)
+    np.testing.assert_array_equal(st.B, np.eye(2))  # |g| = 4 <= 5 max(1, |x|): the bare identity
     s = np.array([-0.5, -0.25])
     new = ev.derivatives(ev.point(st.pt.x + s))
     B, _ = strategy.update(st, new, _qp(problem, s, []), s, first=True)
     np.testing.assert_allclose(B, 4.0 * np.eye(2), rtol=1e-12)  # y = 4 s: the scaled identity is already exact
     B_later, _ = strategy.update(st, new, _qp(problem, s, []), s, first=False)
     assert not np.allclose(B_later, 4.0 * np.eye(2))  # later iterations: no rescaling
+
+
+def test_a_steep_start_scales_the_identity_to_bound_the_first_step():
+    """HS64-like: |g0| = 1e5 at x0 = (1, 2); the first steepest-descent step is kept to FIRST_STEP_LENGTH * 2."""
+    from sqp.hessian_strategy import FIRST_STEP_LENGTH
+
+    problem = build_problem(lambda x: 1e5 * x[0], [1.0, 2.0], lambda x: np.array([1e5, 0.0]), None, [], (), None)
+    strategy = DampedBFGS(problem, None)
+    _, st = _state(problem, [1.0, 2.0])
+    B = strategy.initial(st)
+    np.testing.assert_allclose(np.max(np.abs(np.linalg.solve(B, st.der.g))), FIRST_STEP_LENGTH * 2.0, rtol=1e-12)
+    hess0 = np.diag([3.0, 4.0])
+    np.testing.assert_array_equal(DampedBFGS(problem, hess0).initial(st), hess0)  # hess0 is used as given
 
 
 def test_convexified_exact_gives_a_positive_definite_model_and_newton_multipliers():

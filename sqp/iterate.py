@@ -15,6 +15,10 @@ from sqp.subproblem import QPStep
 
 Array = NDArray[np.float64]
 
+#: The values of no rows (shared: never written to).
+_EMPTY = np.zeros(0)
+_EMPTY.flags.writeable = False
+
 
 @dataclass(frozen=True)
 class Point:
@@ -107,9 +111,12 @@ class Evaluator:
         """Evaluate ``f``, the nonlinear rows and the linear rows at ``x``."""
         p = self.problem
         f = self._f(x)
-        c = np.concatenate([self._c(b, x) for b in p.blocks]) if p.blocks else np.zeros(0)
-        r = p.A @ x if p.A.shape[0] else np.zeros(0)
-        return Point(x=x, f=f, c=c, r=np.asarray(r, dtype=float).ravel())
+        blocks = p.blocks
+        # (the values as the user returned them, checked, without defensive copies: one block is used as is)
+        c = (self._c(blocks[0], x) if len(blocks) == 1 else np.concatenate([self._c(b, x) for b in blocks])
+             if blocks else _EMPTY)
+        r = np.asarray(p.A @ x, dtype=float).ravel() if p.A.shape[0] else _EMPTY
+        return Point(x=x, f=f, c=c, r=r)
 
     def derivatives(self, pt: Point) -> Derivatives:
         """Gradient and nonlinear Jacobian at an evaluated point."""
@@ -123,7 +130,9 @@ class Evaluator:
             if g.shape != (x.size,):
                 raise ValueError(f"jac returned shape {g.shape} at {self.where}; expected ({x.size},): the gradient "
                                  "of fun.")
-        if p.blocks:
+        if len(p.blocks) == 1:
+            J = self._jac(p.blocks[0], x)
+        elif p.blocks:
             parts = [self._jac(b, x) for b in p.blocks]
             J = sp.vstack(parts, format="csr") if any(sp.issparse(m) for m in parts) else np.vstack(parts)
         else:

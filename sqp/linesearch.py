@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from sqp.iterate import Derivatives, Evaluator, Point, State
-from sqp.merit import ARMIJO, directional_derivative, merit, next_step_length
+from sqp.merit import ARMIJO, merit, next_step_length
 from sqp.options import Options
 from sqp.problem import Problem
 from sqp.step import second_order_correction, trial_point
@@ -54,21 +54,22 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
     step length down to :data:`MIN_STEP_LENGTH` decreases the merit function enough. ``mu`` is not modified.
     """
     rows = problem.nonlinear
-    Jd = st.der.J @ d
-    phi0 = merit(st.pt.f, st.pt.c, rows, mu)
-    D = directional_derivative(st.der.g, d, st.pt.c, Jd, rows, mu)
+    # (the violations at x and of the linearisation at x + d, once: merit(), directional_derivative() in one)
+    v0 = rows.violation(st.pt.c)
+    v_lin = rows.violation(st.pt.c + st.der.J @ d)
+    gd = float(st.der.g @ d)
+    phi0 = float(st.pt.f + mu @ v0)
+    D = float(gd + mu @ (v_lin - v0))
     if D >= 0.0:
         # an inexact QP can give an ascent direction; a steeper penalty restores descent when d is infeasible
-        viol = rows.violation(st.pt.c)
-        if np.any(viol > 0):
-            mu = mu + (D + 1.0) / float(np.sum(viol)) * (viol > 0)
-            phi0 = merit(st.pt.f, st.pt.c, rows, mu)
-            D = directional_derivative(st.der.g, d, st.pt.c, Jd, rows, mu)
+        if np.any(v0 > 0):
+            mu = mu + (D + 1.0) / float(np.sum(v0)) * (v0 > 0)
+            phi0 = float(st.pt.f + mu @ v0)
+            D = float(gd + mu @ (v_lin - v0))
         if D >= 0.0:
             return Search(mu=mu)
     alpha = 1.0
     tried_soc = not options.second_order_correction or rows.lb.size == 0
-    v_lin = rows.violation(st.pt.c + Jd) if not tried_soc else None
     nonfinite: str | None = None
     tried = alpha
     while alpha >= MIN_STEP_LENGTH:

@@ -85,6 +85,7 @@ class Monitor:
         self.origin = Origin(f=pt.f, x_scale=max(1.0, float(np.max(np.abs(pt.x), initial=0.0))))
         #: The KKT residuals at the current point with the last QP's multipliers (set by :meth:`after_qp`).
         self.kkt = KKTResiduals.unknown()
+        self.maxcv = maxcv  # the current point's largest violation (one evaluation per point)
 
     def after_qp(self, options: Options, st: State, qp: QPStep, nit: int) -> Stop | None:
         """The tests after the QP at ``st`` (``st.qp is qp`` when it was solved): a failed QP, the KKT test
@@ -92,7 +93,7 @@ class Monitor:
         if not qp.found:
             return Stop(Status.QP_FAILED, f"Backends tried: {', '.join(name for name, _ in options.backends)} "
                                           f"(last answer: {qp.status}) at iteration {nit}.")
-        kkt = kkt_at(self.problem, st)
+        kkt = kkt_at(self.problem, st, self.maxcv)
         if at_step_bound(options, qp.d):  # the bound's multipliers hide in z: no KKT certificate from this QP
             kkt = replace(kkt, stationarity=np.inf)
         self.kkt = kkt
@@ -133,6 +134,7 @@ class Monitor:
     def after_step(self, st: State, maxcv: float, nit: int) -> Stop | None:
         """The tests at the new iterate ``st`` (largest violation ``maxcv``): divergence (UNBOUNDED) and elastic
         steps that no longer reduce the least violation reached (INFEASIBLE)."""
+        self.maxcv = maxcv
         if maxcv < self.least[0]:
             self.least = (maxcv, st.pt.x)
         self.least_trace.append(self.least[0])
@@ -153,7 +155,7 @@ class Monitor:
         early = CONFIRMED_TOLERANCE * self.tol
         assert st.qp is not None
         if (maxcv <= early * max(1.0, float(np.max(np.abs(st.pt.x), initial=0.0)))  # (the feasibility test first)
-                and not at_step_bound(options, st.qp.d) and kkt_at(self.problem, st).satisfied(early)
+                and not at_step_bound(options, st.qp.d) and kkt_at(self.problem, st, maxcv).satisfied(early)
                 and loaded_rows_active(self.problem, st, early)):
             return Stop(Status.SUCCESS)
         return None

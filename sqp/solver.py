@@ -240,13 +240,13 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
             stop = Stop(Status.NONFINITE, f"{ev.hessian_nonfinite} returned NaN or inf at {ev.where} "
                                           f"(x = {format_point(st.pt.x)}).")
             break
-        qp, rho, B = subproblem(problem, options, replace(st, B=B), rho, hessian)  # QP (Eqs. 9–10), elastic
-        st = replace(st, B=B, qp=qp if qp.found else st.qp)
+        qp, rho, B = subproblem(problem, options, State(st.pt, st.der, B, st.mu, st.qp), rho, hessian)  # QP (9–10)
+        st = State(st.pt, st.der, B, st.mu, qp if qp.found else st.qp)
         if (stop := monitor.after_qp(options, st, qp, nit)) is not None:  # KKT test
             break
         mu = penalties(problem, st, qp)  # penalty update (Eq. 13)
         search = merit_search(problem, options, ev, st, qp, mu)  # line search on the L1 merit function (Eq. 12)
-        st = replace(st, mu=search.mu)
+        st = State(st.pt, st.der, st.B, search.mu, qp)
         if (stop := monitor.after_search(st, search.pt, search.nonfinite, search.alpha, nit)) is not None:
             break
         assert search.pt is not None and search.der is not None
@@ -288,7 +288,7 @@ def subproblem(problem: Problem, options: Options, st: State, rho: float,
         return qp, rho, st.B
     eye = sp.identity(problem.n, format="csc") if sp.issparse(st.B) else np.eye(problem.n)
     B = eye * max(1.0, float(np.mean(np.abs(st.B.diagonal()))))
-    qp, rho = qp_step(problem, options, replace(st, B=B), rho)
+    qp, rho = qp_step(problem, options, State(st.pt, st.der, B, st.mu, st.qp), rho)
     return qp, rho, B
 
 

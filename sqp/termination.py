@@ -159,8 +159,10 @@ def stalled_status(problem: Problem, st: State, d: Array) -> Status:
     return Status.LINE_SEARCH
 
 
-def kkt_at(problem: Problem, st: State) -> KKTResiduals:
-    """The KKT residuals at the state's point with its last QP's multipliers."""
+def kkt_at(problem: Problem, st: State, feasibility: float | None = None) -> KKTResiduals:
+    """The KKT residuals at the state's point with its last QP's multipliers (``feasibility``: the point's largest
+    violation, when known)."""
     qp = st.qp
     assert qp is not None
-    return kkt_residuals(problem, st.pt.x, st.der.g, st.pt.c, st.der.J, st.pt.r, qp.lam_nl, qp.lam_lin, qp.z)
+    return kkt_residuals(problem, st.pt.x, st.der.g, st.pt.c, st.der.J, st.pt.r, qp.lam_nl, qp.lam_lin, qp.z,
+                         feasibility)

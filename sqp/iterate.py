@@ -111,10 +111,8 @@ class Evaluator:
         """Evaluate ``f``, the nonlinear rows and the linear rows at ``x``."""
         p = self.problem
         f = self._f(x)
-        blocks = p.blocks
-        # (the values as the user returned them, checked, without defensive copies: one block is used as is)
-        c = (self._c(blocks[0], x) if len(blocks) == 1 else np.concatenate([self._c(b, x) for b in blocks])
-             if blocks else _EMPTY)
+        # (the stacking copies the user's arrays: a function that reuses its output buffer cannot change a Point)
+        c = np.concatenate([self._c(b, x) for b in p.blocks]) if p.blocks else _EMPTY
         r = np.asarray(p.A @ x, dtype=float).ravel() if p.A.shape[0] else _EMPTY
         return Point(x=x, f=f, c=c, r=r)
 
@@ -130,9 +128,7 @@ class Evaluator:
             if g.shape != (x.size,):
                 raise ValueError(f"jac returned shape {g.shape} at {self.where}; expected ({x.size},): the gradient "
                                  "of fun.")
-        if len(p.blocks) == 1:
-            J = self._jac(p.blocks[0], x)
-        elif p.blocks:
+        if p.blocks:
             parts = [self._jac(b, x) for b in p.blocks]
             J = sp.vstack(parts, format="csr") if any(sp.issparse(m) for m in parts) else np.vstack(parts)
         else:

@@ -281,3 +281,4 @@ def test_monitor_confirms_a_converged_newton_step_without_another_qp():
     assert mon.confirmed(options, good, 0.0).status is Status.SUCCESS
     off = State(st.pt, st.der, st.B, st.mu, _qp(problem, [1e-9, 0.0], [-0.5 - 1e-8]))
     assert mon.confirmed(options, off, 0.0) is None  # passes tol, not the 1e-2 tol margin
+

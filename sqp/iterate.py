@@ -15,6 +15,10 @@ from sqp.subproblem import QPStep
 
 Array = NDArray[np.float64]
 
+#: The values of no rows (shared: never written to).
+_EMPTY = np.zeros(0)
+_EMPTY.flags.writeable = False
+
 
 @dataclass(frozen=True)
 class Point:
@@ -107,9 +111,10 @@ class Evaluator:
         """Evaluate ``f``, the nonlinear rows and the linear rows at ``x``."""
         p = self.problem
         f = self._f(x)
-        c = np.concatenate([self._c(b, x) for b in p.blocks]) if p.blocks else np.zeros(0)
-        r = p.A @ x if p.A.shape[0] else np.zeros(0)
-        return Point(x=x, f=f, c=c, r=np.asarray(r, dtype=float).ravel())
+        # (the stacking copies the user's arrays: a function that reuses its output buffer cannot change a Point)
+        c = np.concatenate([self._c(b, x) for b in p.blocks]) if p.blocks else _EMPTY
+        r = np.asarray(p.A @ x, dtype=float).ravel() if p.A.shape[0] else _EMPTY
+        return Point(x=x, f=f, c=c, r=r)
 
     def derivatives(self, pt: Point) -> Derivatives:
         """Gradient and nonlinear Jacobian at an evaluated point."""

@@ -1,4 +1,6 @@
-"""Backtracking on the L1 merit function (paper Eq. 12) along the QP step, with one second-order correction.
+"""Backtracking on the L1 merit function (paper Eq. 12) along the QP step, with one second-order correction: pure
+functions of the state and the penalties, returning what they found (the evaluations they make are counted by the
+:class:`~sqp.iterate.Evaluator`).
 """
 
 from __future__ import annotations
@@ -9,10 +11,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from sqp.iterate import Derivatives, Evaluator, Point, State
-from sqp.merit import ARMIJO, directional_derivative, merit, next_step_length
+from sqp.merit import ARMIJO, merit, next_step_length
 from sqp.options import Options
 from sqp.problem import Problem
 from sqp.step import second_order_correction, trial_point
+from sqp.subproblem import QPStep
 
 Array = NDArray[np.float64]
 
@@ -20,41 +23,51 @@ Array = NDArray[np.float64]
 #: Smallest step length tried by the backtracking line search.
 MIN_STEP_LENGTH = 1e-10
 
+#: A failed search is repeated with the penalties reset to the QP's multipliers when they exceed the largest of those
+#: by this factor: penalties inflated by early, poorly scaled multipliers (Powell's update, Eq. 13, only lets them
+#: fall by halves) make the merit function reject every step.
+PENALTY_RESET_FACTOR = 10.0
+
 
 @dataclass(frozen=True)
 class Search:
     """What a line search gave: the accepted point with its derivatives (``pt is None`` when none was accepted).
 
     ``nonfinite`` names the user function that returned NaN or inf at the last point tried (None when that point was
-    finite); ``alpha`` is the accepted step length, or the last one tried."""
+    finite); ``alpha`` is the accepted step length, or the last one tried; ``mu`` the penalties of the merit function
+    used (the ones given, or raised to make an ascent direction of the merit function a descent one)."""
 
     pt: Point | None = None
     der: Derivatives | None = None
     alpha: float = 0.0
     soc: bool = False
     nonfinite: str | None = None
+    mu: Array | None = None
 
 
-def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d: Array) -> Search:
-    """Armijo backtracking on the L1 merit function, with one second-order correction of the full step.
+def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d: Array, mu: Array) -> Search:
+    """Armijo backtracking on the L1 merit function with penalties ``mu``, with one second-order correction of the
+    full step.
 
     A point is accepted only when its values and its derivatives are finite: NaN or inf from any user function
     (objective, constraint, gradient or Jacobian) at a trial point shortens the step. Fails (``pt is None``) when no
-    step length down to :data:`MIN_STEP_LENGTH` decreases the merit function enough.
+    step length down to :data:`MIN_STEP_LENGTH` decreases the merit function enough. ``mu`` is not modified.
     """
     rows = problem.nonlinear
-    Jd = st.der.J @ d
-    phi0 = merit(st.pt.f, st.pt.c, rows, st.mu)
-    D = directional_derivative(st.der.g, d, st.pt.c, Jd, rows, st.mu)
+    # (the violations at x and of the linearisation at x + d, once: merit(), directional_derivative() in one)
+    v0 = rows.violation(st.pt.c)
+    v_lin = rows.violation(st.pt.c + st.der.J @ d)
+    gd = float(st.der.g @ d)
+    phi0 = float(st.pt.f + mu @ v0)
+    D = float(gd + mu @ (v_lin - v0))
     if D >= 0.0:
         # an inexact QP can give an ascent direction; a steeper penalty restores descent when d is infeasible
-        viol = rows.violation(st.pt.c)
-        if np.any(viol > 0):
-            st.mu = st.mu + (D + 1.0) / float(np.sum(viol)) * (viol > 0)
-            phi0 = merit(st.pt.f, st.pt.c, rows, st.mu)
-            D = directional_derivative(st.der.g, d, st.pt.c, Jd, rows, st.mu)
+        if np.any(v0 > 0):
+            mu = mu + (D + 1.0) / float(np.sum(v0)) * (v0 > 0)
+            phi0 = float(st.pt.f + mu @ v0)
+            D = float(gd + mu @ (v_lin - v0))
         if D >= 0.0:
-            return Search()
+            return Search(mu=mu)
     alpha = 1.0
     tried_soc = not options.second_order_correction or rows.lb.size == 0
     nonfinite: str | None = None
@@ -63,21 +76,42 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
         trial = trial_point(problem, ev, st.pt.x, alpha * d)
         if np.array_equal(trial.x, st.pt.x):
             # the step is below the rounding level of x: no progress is possible along d
-            return Search(alpha=tried, nonfinite=nonfinite)
+            return Search(alpha=tried, nonfinite=nonfinite, mu=mu)
         tried = alpha
         nonfinite = ev.nonfinite_source(trial)
-        phi = merit(trial.f, trial.c, rows, st.mu)
+        phi = merit(trial.f, trial.c, rows, mu)
         if phi <= phi0 + ARMIJO * alpha * D:
             der = ev.derivatives(trial)
             if der.finite:
-                return Search(trial, der, alpha, False)
+                return Search(trial, der, alpha, False, mu=mu)
             nonfinite, phi = ev.nonfinite_source(trial, der), np.inf  # shorten the step as for a NaN value
-        if not tried_soc:
+        if not tried_soc and _curvature_rejected(trial, v_lin, mu, phi0 + ARMIJO * D):
             tried_soc = True
             corrected = second_order_correction(problem, options, ev, st, d, trial)
-            if corrected is not None and merit(corrected.f, corrected.c, rows, st.mu) <= phi0 + ARMIJO * D:
+            if corrected is not None and merit(corrected.f, corrected.c, rows, mu) <= phi0 + ARMIJO * D:
                 der = ev.derivatives(corrected)
                 if der.finite:
-                    return Search(corrected, der, 1.0, True)
+                    return Search(corrected, der, 1.0, True, mu=mu)
         alpha = next_step_length(alpha, phi0, D, phi)
-    return Search(alpha=tried, nonfinite=nonfinite)
+    return Search(alpha=tried, nonfinite=nonfinite, mu=mu)
+
+
+def merit_search(problem: Problem, options: Options, ev: Evaluator, st: State, qp: QPStep, mu: Array) -> Search:
+    """:func:`line_search` along ``qp.d`` with the penalties ``mu``; when it fails with penalties above
+    :data:`PENALTY_RESET_FACTOR` times the QP's largest multiplier, once more with the penalties restarted from the
+    QP's multipliers (Eq. 13 from scratch)."""
+    search = line_search(problem, options, ev, st, qp.d, mu)
+    assert search.mu is not None
+    if search.pt is None and np.max(search.mu, initial=0.0) > PENALTY_RESET_FACTOR * max(
+            float(np.max(np.abs(qp.lam_nl), initial=0.0)), 1e-12):
+        search = line_search(problem, options, ev, st, qp.d, np.abs(qp.lam_nl))
+    return search
+
+
+def _curvature_rejected(trial: Point, v_lin: Array, mu: Array, accept: float) -> bool:
+    """Whether a rejected full step would have been accepted with the violation its linearisation predicts
+    (``v_lin``, per row) instead of the one found at ``trial``: the constraints' curvature rejected it, which a
+    second-order correction removes (the Maratos effect; Nocedal & Wright §15.5, §18.3). A step whose objective alone
+    fails the test ``accept`` was rejected for the objective's sake, which a correction of the constraint values,
+    a change of second order in the step, does not repair."""
+    return bool(trial.finite and trial.f + mu @ v_lin <= accept)

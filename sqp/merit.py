@@ -10,15 +10,22 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from sqp.problem import Rows
+from sqp.iterate import State
+from sqp.problem import Problem, Rows
+from sqp.subproblem import QPStep
 
 Array = NDArray[np.float64]
 
-#: Armijo sufficient-decrease fraction.
+#: Armijo sufficient-decrease fraction ``eta`` of the merit line search (Nocedal & Wright, Algorithm 18.3 and
+#: Eq. 3.4, where ``c1 = 1e-4`` is the customary value).
 ARMIJO = 1e-4
-#: Backtracking keeps the new step within [BACKTRACK_MIN, BACKTRACK_MAX] times the old one.
+#: Backtracking keeps the new step within [BACKTRACK_MIN, BACKTRACK_MAX] times the old one: the safeguards of the
+#: quadratic-interpolation backtrack of Dennis & Schnabel (1983), Algorithm A6.3.1 (``[0.1, 0.5]``).
 BACKTRACK_MIN = 0.1
 BACKTRACK_MAX = 0.5
+#: The fraction ``rho`` of the decrease of the quadratic model the penalty must secure (Nocedal & Wright, Eq. 18.36,
+#: ``rho in (0, 1)``).
+DESCENT_FRACTION = 0.5
 
 
 def merit(f: float, c: Array, rows: Rows, mu: Array) -> float:
@@ -37,7 +44,7 @@ def directional_derivative(g: Array, d: Array, c: Array, Jd: Array, rows: Rows, 
 
 
 def update_penalty(mu: Array, lam: Array) -> Array:
-    """Powell's update (Eq. 13): ``mu_i = max(|lam_i|, (mu_i + |lam_i|) / 2)``."""
+    """Powell's update (Eq. 13; Powell 1978, Eq. 4.4): ``mu_i = max(|lam_i|, (mu_i + |lam_i|) / 2)``."""
     a = np.abs(lam)
     return np.maximum(a, 0.5 * (mu + a))
 
@@ -51,7 +58,7 @@ def next_step_length(alpha: float, phi0: float, D: float, phi_alpha: float) -> f
     return float(np.clip(trial, BACKTRACK_MIN * alpha, BACKTRACK_MAX * alpha))
 
 
-def descent_penalty(gd: float, dBd: float, violation_decrease: float, rho: float = 0.5) -> float:
+def descent_penalty(gd: float, dBd: float, violation_decrease: float, rho: float = DESCENT_FRACTION) -> float:
     """Smallest uniform penalty making ``d`` a descent direction of enough decrease (Nocedal & Wright, Eq. 18.36).
 
     ``mu >= (g^T d + 1/2 d^T B d) / ((1 - rho) * dv)`` where ``dv = v(c) - v(c + J d)`` is the decrease of the
@@ -61,3 +68,15 @@ def descent_penalty(gd: float, dBd: float, violation_decrease: float, rho: float
     if violation_decrease <= 0.0:
         return 0.0
     return max(0.0, (gd + 0.5 * max(dBd, 0.0)) / ((1.0 - rho) * violation_decrease))
+
+
+def penalties(problem: Problem, st: State, qp: QPStep) -> Array:
+    """The merit penalties for the step ``qp.d`` from ``st``: Powell's update (Eq. 13) of ``st.mu`` with the QP's
+    multipliers, raised where needed to make the step a descent direction of the merit function with enough decrease
+    (:func:`descent_penalty`, Nocedal & Wright Eq. 18.36)."""
+    mu = update_penalty(st.mu, qp.lam_nl)
+    if mu.size:
+        d, rows = qp.d, problem.nonlinear
+        dv = float(np.sum(rows.violation(st.pt.c)) - np.sum(rows.violation(st.pt.c + st.der.J @ d)))
+        mu = np.maximum(mu, descent_penalty(float(st.der.g @ d), float(d @ (st.B @ d)), dv))
+    return mu

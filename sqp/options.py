@@ -62,7 +62,7 @@ class Options:
         Clarabel (degenerate elastic QPs the iteration recovers from), where OSQP spent 0.9 s each for a 49 s solve;
         without it 5.8 s and the same answer; Hock–Schittkowski unchanged (115 solved, 0 false successes).
     step_bound : float
-        Largest change of any variable in one step of the first :data:`sqp.solver.RESTART_BOUNDED_ITERATIONS` (10)
+        Largest change of any variable in one step of the first :data:`sqp.termination.RESTART_BOUNDED_ITERATIONS` (10)
         iterations (a box trust region on the QP); ``inf`` (the default): none. A QP whose step reaches it gives no
         KKT certificate (its bound multipliers include the box's).
     restart : bool

@@ -1,11 +1,13 @@
 """The SQP loop (paper §2.2) and the scipy-style front door :func:`minimize`.
 
-One iteration: solve the QP (Eqs. 9–10; elastic if inconsistent) → test the KKT residuals → update the penalties
-(Eq. 13) → backtrack on the L1 merit function (Eq. 12), with a second-order correction → damped BFGS (Eq. 6) →
-record. The pieces live in modules named for them: :mod:`sqp.start` (start point, ``hess0``), :mod:`sqp.step` (the QP
-at the iterate, :mod:`sqp.subproblem` solving it), :mod:`sqp.kkt`, :mod:`sqp.merit` (Eqs. 12–13),
-:mod:`sqp.linesearch`, :mod:`sqp.hessian` (Eq. 6, or an exact Hessian made positive definite) and
-:mod:`sqp.multipliers` (the estimates around the QP); :mod:`sqp.backends` chooses the QP backend.
+One iteration, one line each in :func:`_iterate`: the model Hessian (a :class:`~sqp.hessian_strategy.HessianStrategy`:
+damped BFGS, Eq. 6, or the exact Lagrangian Hessian made positive definite) → the QP (Eqs. 9–10, elastic when
+inconsistent; :func:`subproblem`) → the termination tests (:class:`~sqp.monitor.Monitor`) → the penalty update
+(Eq. 13, :func:`~sqp.merit.penalties`) → the line search on the L1 merit function (Eq. 12, with a second-order
+correction; :func:`~sqp.linesearch.merit_search`, a function returning its result) → the Hessian update → record.
+The loop owns the state (:class:`~sqp.iterate.State`, replaced, never changed in place); every exit is a
+:class:`~sqp.monitor.Stop` from one of those steps. :mod:`sqp.start` gives the start point and ``hess0``;
+:mod:`sqp.step` and :mod:`sqp.subproblem` the QP; :mod:`sqp.backends` chooses its backend.
 """
 
 from __future__ import annotations
@@ -23,18 +25,12 @@ from scipy.optimize import OptimizeResult
 
 from sqp.backends import AUTO, auto_choice
 from sqp.build import build_problem
-from sqp.hessian import convexify, damped_bfgs_update, initial_scaling
+from sqp.hessian_strategy import HessianStrategy, hessian_strategy
 from sqp.iterate import Derivatives, Evaluator, Point, State
 from sqp.kkt import KKTResiduals, max_violation
-from sqp.linesearch import line_search
-from sqp.merit import descent_penalty, update_penalty
-from sqp.multipliers import (
-    al_rows,
-    equality_rows,
-    loaded_rows_active,
-    newton_multipliers,
-    nonlinear_lagrangian_gradient,
-)
+from sqp.linesearch import Search, merit_search
+from sqp.merit import penalties
+from sqp.monitor import Monitor, Stop
 from sqp.options import Options
 from sqp.problem import Problem, format_point
 from sqp.report import HEADER, format_row
@@ -47,24 +43,11 @@ from sqp.termination import (
     RESTART_BOUNDED_ITERATIONS,
     RESTART_STATUSES,
     RESTART_STEP_BOUND,
-    Origin,
-    acceptable,
-    at_step_bound,
     closer,
-    diverging,
     flat_violation,
-    infeasibility_stalled,
-    kkt_at,
-    negligible,
-    stalled_status,
 )
 
 Array = NDArray[np.float64]
-
-#: Scaled KKT level accepted as success (status ACCEPTABLE) when rounding errors stop progress towards ``tol``; the
-#: stationarity level is this times the cancellation factor of the Lagrangian gradient (:func:`acceptable`).
-STALL_ITERATIONS = 3
-
 
 def minimize(
     fun: Callable[..., Any],
@@ -206,12 +189,6 @@ def minimize(
     return res
 
 
-#: A solve ends without a confirming QP when the last QP's multipliers pass the KKT test at the new point with
-#: ``CONFIRMED_TOLERANCE * tol`` (at ``tol`` itself it would stop one Newton step earlier than the confirming QP's
-#: test and leave a residual near ``tol`` where that step would square it).
-CONFIRMED_TOLERANCE = 1e-2
-
-
 def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array | None = None) -> Result:
     """Run the SQP iteration on a validated problem, with ``qp_solver="auto"`` resolved for it first."""
     why = auto_choice(problem.n, problem.sparse_jacobians)[1] if options.qp_solver == AUTO else ""
@@ -240,187 +217,128 @@ def _restart(problem: Problem, options: Options, B0: Array | None, lam0: Array |
 
 
 def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array | None) -> tuple[Result, bool]:
-    """The SQP iteration from ``x0``; with its result, whether it ended at a point where a violated row is flat
-    (:func:`flat_violation`)."""
+    """The SQP iteration from ``x0`` (paper §2.2); with its result, whether it ended at a point where a violated row
+    is flat (:func:`flat_violation`)."""
     t_start = time.perf_counter()
     ev = Evaluator(problem)
+    st, failed = _start(problem, options, ev, B0, lam0, t_start)
+    if st is None:
+        assert failed is not None
+        return failed, False
+    hessian = hessian_strategy(problem, B0, lam0)
+    st = replace(st, B=hessian.initial(st))
+    monitor = Monitor(problem, options.tol, options.max_iter, st.pt, max_violation(problem, st.pt.x, st.pt.c, st.pt.r))
+    history: list[IterationRecord] = []
+    rho = 0.0  # the elastic QP's slack price
+    stop = Stop(Status.MAX_ITER)
+    if options.verbose:
+        print(HEADER)
+    for nit in range(options.max_iter + 1):
+        options, ev.nit = bounded_steps(options, nit), nit + 1  # (iteration nit + 1's evaluations from here)
+        B = hessian.model(ev, st)  # Hessian: damped BFGS (Eq. 6) or the exact one made positive definite
+        if B is None:
+            stop = Stop(Status.NONFINITE, f"{ev.hessian_nonfinite} returned NaN or inf at {ev.where} "
+                                          f"(x = {format_point(st.pt.x)}).")
+            break
+        qp, rho, B = subproblem(problem, options, State(st.pt, st.der, B, st.mu, st.qp), rho, hessian)  # QP (9–10)
+        st = State(st.pt, st.der, B, st.mu, qp if qp.found else st.qp)
+        if (stop := monitor.after_qp(options, st, qp, nit)) is not None:  # KKT test
+            break
+        mu = penalties(problem, st, qp)  # penalty update (Eq. 13)
+        search = merit_search(problem, options, ev, st, qp, mu)  # line search on the L1 merit function (Eq. 12)
+        st = State(st.pt, st.der, st.B, search.mu, qp)
+        if (stop := monitor.after_search(st, search.pt, search.nonfinite, search.alpha, nit)) is not None:
+            break
+        assert search.pt is not None and search.der is not None
+        s = search.pt.x - st.pt.x
+        B, damped = hessian.update(st, search.der, qp, s, nit == 0)  # the BFGS update (Eq. 6) for the next model
+        st = State(pt=search.pt, der=search.der, B=B, mu=st.mu, qp=qp)
+        rec = _record(problem, ev, nit, st, monitor.kkt, s, search, damped)
+        history.append(rec)
+        if (stop := monitor.after_step(st, rec.maxcv, nit)) is not None:  # divergence, stalled infeasibility
+            break
+        if (stop := _report(options, rec, st)) is not None:  # verbose table, callback
+            break
+        if (stop := monitor.confirmed(options, st, rec.maxcv)) is not None:  # converged: no confirming QP needed
+            break
+    if stop.qp is not None:
+        st = replace(st, qp=stop.qp)
+    stop = monitor.detail(stop)
+    flat = stop.status in RESTART_STATUSES and flat_violation(problem, st, options.tol)
+    return build_result(problem, ev, st.pt, st.der, st.qp, stop.status, history, t_start, B=st.B, nit=len(history),
+                        detail=stop.detail), flat
+
+
+def bounded_steps(options: Options, nit: int) -> Options:
+    """``options`` for iteration ``nit``: its step bound (a restart's trust region) lifted after the first
+    :data:`RESTART_BOUNDED_ITERATIONS` iterations."""
+    if nit == RESTART_BOUNDED_ITERATIONS and np.isfinite(options.step_bound):
+        return replace(options, step_bound=np.inf)
+    return options
+
+
+def subproblem(problem: Problem, options: Options, st: State, rho: float,
+               hessian: HessianStrategy) -> tuple[QPStep, float, Any]:
+    """The QP at ``st`` (Eqs. 9–10, elastic when inconsistent: :func:`~sqp.step.qp_step`) with the multipliers of the
+    model's step; when no backend solves it, once more with ``B`` replaced by a multiple of the identity. Returns the
+    answer, the elastic slack price and the ``B`` it was solved with."""
+    qp, rho = qp_step(problem, options, st, rho)
+    qp = hessian.multipliers(st, qp)
+    if qp.found:
+        return qp, rho, st.B
+    eye = sp.identity(problem.n, format="csc") if sp.issparse(st.B) else np.eye(problem.n)
+    B = eye * max(1.0, float(np.mean(np.abs(st.B.diagonal()))))
+    qp, rho = qp_step(problem, options, State(st.pt, st.der, B, st.mu, st.qp), rho)
+    return qp, rho, B
+
+
+def _start(problem: Problem, options: Options, ev: Evaluator, B0: Array | None, lam0: Array | None,
+           t_start: float) -> tuple[State | None, Result | None]:
+    """The state at the start point (``B`` still to be set), or the result of a solve that cannot start."""
     history: list[IterationRecord] = []
     x, status, detail = start_point(problem, options)
     if status is not None:
-        return build_result(problem, ev, None, None, None, status, history, t_start, x=x, detail=detail), False
+        return None, build_result(problem, ev, None, None, None, status, history, t_start, x=x, detail=detail)
     pt = ev.point(x)
     if not pt.finite:
-        return build_result(problem, ev, pt, None, None, Status.NONFINITE, history, t_start,
-                            detail=_nonfinite_detail(ev, pt, None, "at the start point")), False
+        return None, build_result(problem, ev, pt, None, None, Status.NONFINITE, history, t_start,
+                                  detail=_nonfinite_detail(ev, pt, None, "at the start point"))
     der = ev.derivatives(pt)
     if not der.finite:
-        return build_result(problem, ev, pt, der, None, Status.NONFINITE, history, t_start,
-                            detail=_nonfinite_detail(ev, pt, der, "at the start point")), False
-    exact = problem.hess is not None
-    scaled_start = B0 is None and not exact
-    shift = al_weight = 0.0
-    # (with exact Hessians B is replaced before its first use: no dense n x n identity for a large sparse problem)
-    B_start = sp.identity(problem.n, format="csc") if exact else (
-        np.eye(problem.n) if B0 is None or sp.issparse(B0) else B0.copy())
-    st = State(pt=pt, der=der, B=B_start,
-               mu=np.zeros(problem.nonlinear.lb.size) if lam0 is None else np.abs(lam0))
+        return None, build_result(problem, ev, pt, der, None, Status.NONFINITE, history, t_start,
+                                  detail=_nonfinite_detail(ev, pt, der, "at the start point"))
+    mu = np.zeros(problem.nonlinear.lb.size) if lam0 is None else np.abs(lam0)
+    return State(pt=pt, der=der, B=None, mu=mu), None
+
+
+def _record(problem: Problem, ev: Evaluator, nit: int, st: State, kkt: KKTResiduals, s: Array, search: Search,
+            damped: bool) -> IterationRecord:
+    """The history row of iteration ``nit + 1``, which reached ``st`` by the step ``s``."""
+    assert st.qp is not None
+    return IterationRecord(
+        nit=nit + 1, nfev=ev.nfev, f=st.pt.f, maxcv=max_violation(problem, st.pt.x, st.pt.c, st.pt.r),
+        kkt=kkt.worst, step=float(np.max(np.abs(s), initial=0.0)), alpha=search.alpha,
+        penalty=float(np.max(st.mu, initial=0.0)), qp_status=st.qp.status, damped=damped, soc=search.soc,
+    )
+
+
+def _report(options: Options, rec: IterationRecord, st: State) -> Stop | None:
+    """Print the iteration's row (``verbose``) and call the callback; CALLBACK when it raises StopIteration."""
     if options.verbose:
-        print(HEADER)
-    status = Status.MAX_ITER
-    detail = ""
-    rho = 0.0
-    stalled = 0
-    best: tuple[KKTResiduals, QPStep] | None = None
-    least = (max_violation(problem, pt.x, pt.c, pt.r), pt.x)  # the least violation reached, and where
-    least_trace = [least[0]]  # the least violation after each iteration
-    elastic_run = 0  # consecutive iterations whose QP was elastic
-    origin = Origin(f=pt.f, x_scale=max(1.0, float(np.max(np.abs(pt.x)))))
-    for nit in range(options.max_iter + 1):
-        if nit == RESTART_BOUNDED_ITERATIONS and np.isfinite(options.step_bound):
-            options = replace(options, step_bound=np.inf)  # the step bound covers the first iterations only
-        ev.nit = nit + 1  # evaluations from here to the acceptance of the next point belong to iteration nit + 1
-        if exact:  # the exact Lagrangian Hessian at (x_k, lam_{k-1}), made positive definite
-            lam_prev = st.qp.lam_nl if st.qp is not None else (
-                np.zeros(problem.nonlinear.lb.size) if lam0 is None else lam0)
-            kept_rows = al_rows(problem, lam_prev)
-            W = ev.lagrangian_hessian(st.pt.x, lam_prev)
-            if ev.hessian_nonfinite is not None:
-                status = Status.NONFINITE
-                detail = f"{ev.hessian_nonfinite} returned NaN or inf at {ev.where} (x = {format_point(st.pt.x)})."
-                break
-            st.B, shift, al_weight = convexify(W, shift, equality_rows(problem, st.der.J, kept_rows), al_weight)
-        # the QP subproblem (Eqs. 9–10), elastic when its linearisation is inconsistent
-        qp, rho = qp_step(problem, options, st, rho)
-        if exact and al_weight > 0.0 and qp.found and not qp.elastic:
-            qp = newton_multipliers(problem, st, qp, kept_rows, al_weight)
-        if not qp.found:
-            eye = sp.identity(problem.n, format="csc") if sp.issparse(st.B) else np.eye(problem.n)
-            st.B = eye * max(1.0, float(np.mean(np.abs(st.B.diagonal()))))
-            qp, rho = qp_step(problem, options, st, rho)
-            if not qp.found:
-                status = Status.QP_FAILED
-                detail = (f"Backends tried: {', '.join(name for name, _ in options.backends)} (last answer: "
-                          f"{qp.status}) at iteration {nit}.")
-                break
-        st.qp = qp
-        kkt = kkt_at(problem, st)
-        if at_step_bound(options, qp.d):  # the bound's multipliers hide in z: no KKT certificate from this QP
-            kkt = replace(kkt, stationarity=np.inf)
-        if stalled == 0 or best is None or kkt.worst < best[0].worst:  # best multipliers at this (stalled) point
-            best = (kkt, qp)
-        if kkt.satisfied(options.tol):
-            status = Status.SUCCESS
-            break
-        if nit == options.max_iter:
-            break
-        d = qp.d
-        if qp.elastic and not kkt.feasible(options.tol) and np.max(np.abs(d)) <= 1e-10 * (1 + np.max(np.abs(st.pt.x))):
-            status = Status.INFEASIBLE  # no step reduces the linearised violation: a stationary point of it
-            break
-        # the penalties (Eq. 13) and the merit line search (Eq. 12)
-        st.mu = _penalties(problem, st, qp)
-        search = line_search(problem, options, ev, st, d)
-        if search.pt is None and np.max(st.mu, initial=0.0) > 10.0 * max(
-                float(np.max(np.abs(qp.lam_nl), initial=0.0)), 1e-12):
-            # penalties inflated by early, poorly scaled multipliers: restart them from the current ones (Eq. 13)
-            st.mu = np.abs(qp.lam_nl)
-            search = line_search(problem, options, ev, st, d)
-        if search.pt is not None and negligible(st.pt.x, search.pt.x):
-            stalled += 1
-        else:
-            stalled = 0
-        if search.pt is None or stalled >= STALL_ITERATIONS:
-            if search.pt is not None:
-                status = Status.SMALL_STEP
-            elif search.nonfinite is not None:
-                status = Status.NONFINITE  # NaN or inf down to the shortest step tried
-                detail = (f"{search.nonfinite} returned NaN or inf at every trial point of iteration {nit + 1} down "
-                          f"to step length {search.alpha:.1e} (from x = {format_point(st.pt.x)}).")
-            else:
-                status = stalled_status(problem, st, d)
-            # (the multiplier estimates of the QPs solved while x stood still all belong to this point: the best one
-            # decides; rounding makes them scatter around the limit on ill-conditioned problems such as HS116)
-            assert best is not None
-            if acceptable(problem, st, *best, options.tol):
-                status, st.qp = Status.ACCEPTABLE, best[1]
-            break
-        new_pt, new_der, alpha, soc = search.pt, search.der, search.alpha, search.soc
-        assert new_der is not None
-        # the damped BFGS update (Eq. 6)
-        s = new_pt.x - st.pt.x
-        damped = False
-        if not exact:
-            st.B, damped = _bfgs(problem, st, new_der, qp, s, scale=scaled_start and nit == 0)
-        st.pt, st.der = new_pt, new_der
-        # record the iteration (history, verbose table, callback)
-        rec = IterationRecord(
-            nit=nit + 1, nfev=ev.nfev, f=new_pt.f, maxcv=max_violation(problem, new_pt.x, new_pt.c, new_pt.r),
-            kkt=kkt.worst, step=float(np.max(np.abs(s), initial=0.0)), alpha=alpha,
-            penalty=float(np.max(st.mu, initial=0.0)), qp_status=qp.status, damped=damped, soc=soc,
-        )
-        history.append(rec)
-        if rec.maxcv < least[0]:
-            least = (rec.maxcv, new_pt.x)
-        least_trace.append(least[0])
-        elastic_run = elastic_run + 1 if qp.elastic else 0
-        if diverging(origin, new_pt, rec.maxcv, options.tol):
-            status = Status.UNBOUNDED
-            detail = (f"At iteration {nit + 1} f = {new_pt.f:.3e} (from {origin.f:.3e}) at a feasible x with "
-                      f"||x||_inf = {np.max(np.abs(new_pt.x)):.3e}.")
-            break
-        if infeasibility_stalled(least_trace, elastic_run, options.tol):
-            status = Status.INFEASIBLE
-            break
-        if options.verbose:
-            print(format_row(rec))
-        if options.callback is not None:
-            try:
-                options.callback(OptimizeResult(x=new_pt.x.copy(), fun=new_pt.f, nit=nit + 1, nfev=ev.nfev,
-                                                maxcv=rec.maxcv, kkt=rec.kkt))
-            except StopIteration:
-                status = Status.CALLBACK
-                break
-            except Exception as exc:
-                exc.add_note(f"sqp.minimize: raised by callback at iteration {nit + 1} "
-                             f"(x = {format_point(new_pt.x)}).")
-                raise
-        # the QP's multipliers are those of the new point to second order near a solution (Newton–SQP): when they
-        # already satisfy the KKT test there with a wide margin, and every row they load is active there, the next
-        # Hessian and QP would only confirm it
-        early = CONFIRMED_TOLERANCE * options.tol
-        if (rec.maxcv <= early * max(1.0, float(np.max(np.abs(new_pt.x), initial=0.0)))  # (the feasibility test first)
-                and not at_step_bound(options, qp.d) and kkt_at(problem, st).satisfied(early)
-                and loaded_rows_active(problem, st, early)):
-            status = Status.SUCCESS
-            break
-    if status is Status.INFEASIBLE:
-        detail = f"Least violation reached: {least[0]:.2e} at x = {format_point(least[1])}."
-    flat = status in RESTART_STATUSES and flat_violation(problem, st, options.tol)
-    return build_result(problem, ev, st.pt, st.der, st.qp, status, history, t_start, B=st.B, nit=len(history),
-                        detail=detail), flat
-
-
-def _penalties(problem: Problem, st: State, qp: QPStep) -> Array:
-    """Powell's update of the merit penalties (Eq. 13), raised where needed to make the step ``qp.d`` a descent
-    direction of the merit function (:func:`~sqp.merit.descent_penalty`)."""
-    mu = update_penalty(st.mu, qp.lam_nl)
-    if mu.size:
-        d, rows = qp.d, problem.nonlinear
-        dv = float(np.sum(rows.violation(st.pt.c)) - np.sum(rows.violation(st.pt.c + st.der.J @ d)))
-        mu = np.maximum(mu, descent_penalty(float(st.der.g @ d), float(d @ (st.B @ d)), dv))
-    return mu
-
-
-def _bfgs(problem: Problem, st: State, new_der: Derivatives, qp: QPStep, s: Array, scale: bool) -> tuple[Array, bool]:
-    """The damped BFGS update (Eq. 6) of ``st.B`` for the step ``s``, with ``y`` the change of the Lagrangian
-    gradient at the QP's multipliers; the identity start is rescaled first (Shanno–Phua) when ``scale``."""
-    y = nonlinear_lagrangian_gradient(problem, new_der, qp) - nonlinear_lagrangian_gradient(problem, st.der, qp)
-    B = st.B * initial_scaling(s, y) if scale else st.B
-    return damped_bfgs_update(B, s, y)
+        print(format_row(rec))
+    if options.callback is None:
+        return None
+    try:
+        options.callback(OptimizeResult(x=st.pt.x.copy(), fun=st.pt.f, nit=rec.nit, nfev=rec.nfev, maxcv=rec.maxcv,
+                                        kkt=rec.kkt))
+    except StopIteration:
+        return Stop(Status.CALLBACK)
+    except Exception as exc:
+        exc.add_note(f"sqp.minimize: raised by callback at iteration {rec.nit} (x = {format_point(st.pt.x)}).")
+        raise
+    return None
 
 
 def _nonfinite_detail(ev: Evaluator, pt: Point, der: Derivatives | None, where: str) -> str:
     """Which user function returned NaN or inf, where."""
     return f"{ev.nonfinite_source(pt, der)} returned NaN or inf {where} (iteration {ev.nit}, x = {format_point(pt.x)})."
-
-

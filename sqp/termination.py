@@ -11,7 +11,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from sqp.iterate import Point, State
-from sqp.kkt import KKTResiduals, cancellation, kkt_residuals
+from sqp.kkt import KKTResiduals, cancellation, kkt_residuals, max_violation
 from sqp.options import Options
 from sqp.problem import Problem
 from sqp.result import Result, Status
@@ -19,12 +19,25 @@ from sqp.subproblem import QPStep
 
 Array = NDArray[np.float64]
 
+#: Scaled KKT level accepted as success (status ACCEPTABLE) when rounding errors stop progress towards ``tol``; the
+#: stationarity level is this times the cancellation factor of the Lagrangian gradient (:func:`acceptable`). The
+#: level of IPOPT's ``acceptable_tol`` (1e-6), which serves the same purpose.
 ACCEPTABLE_TOL = 1e-6
 
+#: A step that changes x by at most this, relative to ``1 + ||x||_inf``, is negligible (:func:`negligible`): about
+#: ten thousand times the rounding unit (2.2e-16), where rounding noise in f or c drives the steps.
+NEGLIGIBLE_STEP = 1e-12
 
-#: Consecutive steps below the rounding level of x (relative 1e-12) after which the solve stops.
+#: A QP step at most this, relative to ``1 + ||x||_inf``, is a vanishing one (:func:`stalled_status`): a hundred times
+#: the rounding unit.
+VANISHING_STEP = 1e-14
 
-#: Failures that, at an infeasible point, start the solve again from ``x0`` with a step bound (:func:`_restart`):
+#: The violation above which a failed elastic search is a (local) minimiser of the violation
+#: (:func:`stalled_status`): SLSQP's default ``acc`` (1e-6), far above any rounding-limited residual.
+INFEASIBLE_VIOLATION = 1e-6
+
+#: Failures that, at an infeasible point, start the solve again from ``x0`` with a step bound
+#: (:func:`sqp.solver.run`):
 #: the ends of first steps that jumped into a region where the linearisation misleads (HS88, HS90, HS92: to
 #: ``x = 0``, where the constraint gradient vanishes, a local minimiser of the violation).
 RESTART_STATUSES = (Status.INFEASIBLE, Status.LINE_SEARCH, Status.SMALL_STEP)
@@ -128,26 +141,28 @@ def at_step_bound(options: Options, d: Array) -> bool:
 
 
 def negligible(x: Array, x_new: Array) -> bool:
-    """Whether a step changed x by less than a relative 1e-12 (rounding noise in f or c drives such steps)."""
-    return bool(np.max(np.abs(x_new - x), initial=0.0) <= 1e-12 * (1.0 + np.max(np.abs(x), initial=0.0)))
+    """Whether a step changed x by at most :data:`NEGLIGIBLE_STEP` relative to ``1 + ||x||_inf`` (rounding noise in
+    f or c drives such steps)."""
+    return bool(np.max(np.abs(x_new - x), initial=0.0) <= NEGLIGIBLE_STEP * (1.0 + np.max(np.abs(x), initial=0.0)))
 
 
 def stalled_status(problem: Problem, st: State, d: Array) -> Status:
     """Why no step was accepted: non-finite values along the step, a vanishing step, or a failed search."""
-    if np.max(np.abs(d), initial=0.0) <= 1e-14 * (1.0 + np.max(np.abs(st.pt.x))):
+    if np.max(np.abs(d), initial=0.0) <= VANISHING_STEP * (1.0 + np.max(np.abs(st.pt.x))):
         if st.qp is not None and st.qp.elastic and np.max(problem.nonlinear.violation(st.pt.c), initial=0.0) > 0:
             return Status.INFEASIBLE
         return Status.SMALL_STEP
-    if st.qp is not None and st.qp.elastic and kkt_at(problem, st).feasibility > 1e-6:
+    if st.qp is not None and st.qp.elastic and max_violation(problem, st.pt.x, st.pt.c, st.pt.r) > INFEASIBLE_VIOLATION:
         # the linearisation is inconsistent here and no step along the elastic direction reduces the merit: a
         # (local) minimiser of the violation, not a derivative or scaling problem
         return Status.INFEASIBLE
     return Status.LINE_SEARCH
 
 
-
-def kkt_at(problem: Problem, st: State) -> KKTResiduals:
-    """The KKT residuals at the state's point with its last QP's multipliers."""
+def kkt_at(problem: Problem, st: State, feasibility: float | None = None) -> KKTResiduals:
+    """The KKT residuals at the state's point with its last QP's multipliers (``feasibility``: the point's largest
+    violation, when known)."""
     qp = st.qp
     assert qp is not None
-    return kkt_residuals(problem, st.pt.x, st.der.g, st.pt.c, st.der.J, st.pt.r, qp.lam_nl, qp.lam_lin, qp.z)
+    return kkt_residuals(problem, st.pt.x, st.der.g, st.pt.c, st.der.J, st.pt.r, qp.lam_nl, qp.lam_lin, qp.z,
+                         feasibility)

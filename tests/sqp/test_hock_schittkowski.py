@@ -22,9 +22,6 @@ EXPECTED_FAILURES: dict[str, str] = {
     "HS54": "badly scaled (variables from 1e-3 to 1e8): BFGS stalls at f = -0.8674 with scaled stationarity 0.14 and "
             "stops with SMALL_STEP (SLSQP and trust-constr claim success at f = 0)",
     "HS59": "converges to the local minimum f = -6.7495, as SLSQP and trust-constr do",
-    "HS61": "from x0 = 0 the constraint Jacobian has rank one (x2, x3 enter squared): the linearisations ask for huge "
-            "steps, the multipliers grow without bound and the line search stalls (SLSQP: 'Singular matrix C'); "
-            "solved from the same x0 when hess0 is the objective Hessian",
     "HS97": "converges to the local minimum f = 4.0712 (SLSQP reaches 3.1358 but claims no success)",
     "HS98": "converges to the local minimum f = 4.0712 (SLSQP reaches f* = 3.1358)",
 }

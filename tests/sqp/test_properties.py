@@ -230,11 +230,10 @@ def test_a_start_violating_a_row_by_less_than_the_qp_tolerance(qp_solver):
     np.testing.assert_allclose(res.x, [-1e-7, 0.0], atol=1e-12)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "found by hypothesis (nightly): BFGS reaches the minimiser (f equal to 1e-15) but rounding in f (|f| = 24) stops "
-    "the line search at scaled stationarity 3.5e-6, above ACCEPTABLE's 1e-6: an honest LINE_SEARCH, not a success; "
-    "the same QP with a LinearConstraint ends ACCEPTABLE"))
 def test_a_dict_form_qp_whose_end_game_is_stopped_by_rounding():
+    """Found by hypothesis (nightly): with the bare identity start BFGS reached the minimiser but rounding in f
+    (|f| = 24) stopped the line search at scaled stationarity 3.5e-6 (LINE_SEARCH); with the first step bounded
+    (:data:`sqp.hessian_strategy.FIRST_STEP_LENGTH`) the solve converges to tol."""
     P = np.full((5, 5), 3.828125) + 0.25 * np.eye(5)
     qp = ConvexQP(P=P, q=np.array([0.0, 4.0, 0.0, 0.0, 0.0]), A=np.zeros((0, 5)), b=np.zeros(0),
                   G=np.eye(5)[:1], h=np.array([0.1]), lo=np.full(5, -np.inf), hi=np.full(5, np.inf),

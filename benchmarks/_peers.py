@@ -16,12 +16,15 @@ import numpy as np
 import scipy.sparse as sp
 from _environment import ipopt_available
 from _problems import Problem, as_dicts, dense, has_exact_hessians, trust_constr_constraints
+from _structure_limit import run_structure_limit
 from scipy.optimize import minimize
 
 #: Default iteration caps of the peers (generous: SLSQP needs about n iterations on the guidewire problems).
 PEER_MAX_ITER = {"SLSQP": 5000, "trust-constr": 1000, "IPOPT": 3000}
 #: IPOPT's options besides the iteration cap (``tol`` as scipy-free peers use it).
 IPOPT_OPTIONS = {"print_level": 0, "sb": "yes", "tol": 1e-8}
+#: The display name of :func:`_structure_limit.run_structure_limit`.
+STRUCTURE_LIMIT = "structure limit"
 
 
 class FixedPattern:
@@ -139,7 +142,8 @@ def run_ipopt(problem: Problem, *, max_iter: int = PEER_MAX_ITER["IPOPT"], spars
 
 
 def peer_runners(names: Sequence[str] = ("SLSQP", "trust-constr", "IPOPT")) -> dict[str, Callable[[Problem], Any]]:
-    """The installed peers among ``names`` (IPOPT only when cyipopt imports), keyed by display name."""
+    """The installed peers among ``names`` (IPOPT only when cyipopt imports), keyed by display name; with
+    ``"structure limit"`` also the minimal Newton-KKT solve of :mod:`_structure_limit` (equality-only programs)."""
     table: dict[str, Callable[[Problem], Any]] = {}
     if "SLSQP" in names:
         table["scipy SLSQP"] = run_slsqp
@@ -147,6 +151,8 @@ def peer_runners(names: Sequence[str] = ("SLSQP", "trust-constr", "IPOPT")) -> d
         table["scipy trust-constr"] = run_trust_constr
     if "IPOPT" in names and ipopt_available():
         table["IPOPT"] = run_ipopt
+    if STRUCTURE_LIMIT in names:
+        table[STRUCTURE_LIMIT] = run_structure_limit
     return table
 
 

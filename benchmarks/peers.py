@@ -6,7 +6,8 @@ Every feasible paper scene (Tables 1 and 2 at all five angles, Fig. 6a, Fig. 6b,
 infeasible and left out) in its default (second-order) scheme at n ∈ {25, 50, 100, 200, 400, 800, 1600} bars, solved
 by ``ours`` (:func:`guidewire.solve` with its defaults), ``ours[bfgs]`` (the paper's damped BFGS), ``ours[<backend>]``
 for every installed qpsolvers backend, and the peers of :mod:`_peers`: scipy SLSQP, scipy trust-constr and IPOPT
-(cyipopt; left out when not installed). Every solver starts
+(cyipopt; left out when not installed), and on the contact scenes the "structure limit" (:mod:`_structure_limit`:
+plain Newton-KKT steps by a banded solve, the cost floor the structure allows). Every solver starts
 from the formulation's ``x0`` (the elastica-like start) with the same analytic derivatives; trust-constr and IPOPT get
 the exact Hessians when the formulation offers them. One more row group starts everyone from the straight wire (all
 angles 0) at one n, to show who fails from there.
@@ -43,7 +44,8 @@ import _guidewire as G
 import _tables as T
 import _timing
 import numpy as np
-from _peers import PEER_MAX_ITER
+from _peers import PEER_MAX_ITER, STRUCTURE_LIMIT
+from _structure_limit import applicable
 
 import guidewire
 
@@ -79,7 +81,9 @@ def run_case(case: G.Case, solvers: dict[str, Any], budget: _timing.Budget | Non
     out: dict[str, dict[str, Any]] = {}
     for name, run in solvers.items():
         group = "wall scenes" if is_wall_scene(case.scene) else "contact scenes"
-        if name.startswith("ours[") and case.n > VARIANT_MAX_BARS:
+        if name == STRUCTURE_LIMIT and not applicable(case.problem):
+            out[name] = _timing.skipped("not applicable: inequality rows (walls)")
+        elif name.startswith("ours[") and case.n > VARIANT_MAX_BARS:
             out[name] = _timing.skipped(f"skipped: the variants of ours are measured up to n = {VARIANT_MAX_BARS}")
         elif budget is None:
             out[name] = _timing.measure(run, case, repeats, limit)
@@ -205,7 +209,7 @@ def main() -> None:
     repeats, limit = a.repeats, a.limit
     straight_bars = QUICK_STRAIGHT_BARS if a.quick else STRAIGHT_BARS
     scene_list = scenes(a.quick, a.scenes)
-    solvers = {**G.ours_variants(), **G.peer_variants()}
+    solvers = {**G.ours_variants(), **G.peer_variants(("SLSQP", "trust-constr", "IPOPT", STRUCTURE_LIMIT))}
     wanted = A.names(a.solvers)
     if wanted:
         solvers = {k: v for k, v in solvers.items() if k == "ours" or any(w in k for w in wanted)}

@@ -19,7 +19,8 @@ from .scene import Scene
 #: nodes and their neighbours; a lumen: move its tangent planes), solve again from the answer.
 MAX_ROUNDS = 8
 
-#: ``layout="auto"`` uses the full-space program above this many bars (see :func:`choose_layout`).
+#: ``layout="auto"`` uses the full-space program above this many bars for scenes with walls (see
+#: :func:`choose_layout`).
 FULL_SPACE_BARS = 200
 
 #: The damped-BFGS retry of :func:`solve` may take ``min(max_iter, max(FALLBACK_MIN_ITER, max_iter // 5))``
@@ -36,14 +37,20 @@ FALLBACK = "damped BFGS"
 
 
 def choose_layout(bars: int, hessian: str = "exact", scene: Scene | None = None) -> str:
-    """What ``layout="auto"`` means: the reduced program (angles only) up to :data:`FULL_SPACE_BARS` bars, where its
-    dense QPs are fastest, and the full-space one (:mod:`guidewire.full_space`: angles and nodes, every row sparse)
-    above, with the exact Hessian. Measured on Fig. 6a at 400 / 1600 bars: reduced 2.1 s / 76 s, full 28 ms / 0.10 s;
-    Table 1 (π/4) at 1600 bars: reduced 68 ms, full 51 ms; the paper scenes at 150 bars: reduced 1.6-2x faster, at
-    200 a tie (reduced 0.7-1x the time), at 300 full 1.3-1.7x faster. The BFGS path stays reduced (the paper's
-    algorithm), and so do vessel scenes: with the lumen's curved (quadratic) rows the full-space program is not yet
-    reliable (the aortic arch at 245 bars ended MAX_ITER three rounds running, where the reduced one converges)."""
-    if scene is not None and scene.vessel is not None:
+    """What ``layout="auto"`` means: the reduced program (angles only) for contact scenes at every ``n`` and for
+    wall scenes up to :data:`FULL_SPACE_BARS` bars; the full-space one (:mod:`guidewire.full_space`: angles and
+    nodes, every row sparse) for wall scenes above, with the exact Hessian.
+
+    Contact scenes (no walls, no vessel) have equality-only subproblems with a few dense rows and a banded energy
+    Hessian: above :data:`sqp.DENSE_LIMIT` the engine solves them by a structured KKT solve
+    (:mod:`sqp.structured`), Newton's step in 3-4 iterations at every n. Measured, reduced against full in one
+    process (medians of 5, BLAS one thread): Table 1 (π/4) 0.50x / 0.29x / 0.17x the time at 200 / 400 / 1600
+    bars, Table 2 (π/4) 0.47x / 0.37x / 0.20x, Table 1 (-π/2) and Table 2 (π/2) alike. Wall rows are
+    inequalities, dense in the reduced program: measured on Fig. 6a at 400 / 1600 bars reduced 2.1 s / 76 s, full
+    28 ms / 0.10 s. The BFGS path stays reduced (the paper's algorithm), and so do vessel scenes: with the lumen's
+    curved (quadratic) rows the full-space program is not yet reliable (the aortic arch at 245 bars ended MAX_ITER
+    three rounds running, where the reduced one converges)."""
+    if scene is not None and (scene.vessel is not None or not scene.walls):
         return "reduced"
     return "full" if hessian == "exact" and bars > FULL_SPACE_BARS else "reduced"
 

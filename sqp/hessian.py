@@ -15,6 +15,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
 
+from sqp import structured
+
 Array = NDArray[np.float64]
 
 #: Powell's damping threshold: the update keeps ``s^T r >= 0.2 s^T B s`` (Nocedal & Wright, Eq. 18.15).
@@ -88,6 +90,13 @@ def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0) -> tu
     Dense matrices are tested by Cholesky; sparse ones by an LU factorisation without pivoting, whose pivots have the
     signs of the eigenvalues (Sylvester's law of inertia).
 
+    A large sparse banded ``W`` with a few dense rows ``C`` (:func:`sqp.structured.candidate`: the guidewire's
+    reduced program above :data:`DENSE_LIMIT` variables, which 2. cannot serve) is factorised once and returned as
+    a :class:`sqp.structured.FactoredHessian`, even when indefinite: an equality-only subproblem is then solved as
+    its KKT system with an inertia test (:func:`sqp.structured.equality_kkt`), the exact Newton step whenever ``W``
+    is positive definite on the null space of its rows, and any other subproblem asks for 1.-3. first
+    (:meth:`~sqp.structured.FactoredHessian.convexified`).
+
     Returns
     -------
     B : ndarray or sparse matrix
@@ -98,13 +107,23 @@ def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0) -> tu
     n = W.shape[0]
     if sp.issparse(W) and n <= DENSE_LIMIT:
         W = W.toarray()
+    if sp.issparse(W) and structured.candidate(W, C):
+        factor = structured.factor_symmetric(W)
+        if factor is not None:
+            return structured.FactoredHessian.wrap(W, factor, lambda: _convexify(W, shift, C, rho)[0]), 0.0, 0.0
+    return _convexify(W, shift, C, rho)
+
+
+def _convexify(W: Any, shift: float, C: Any, rho: float) -> tuple[Any, float, float]:
+    """:func:`convexify`'s general path, 1.-3."""
+    n = W.shape[0]
     is_sparse = sp.issparse(W)
     # (a W that needed the augmented-Lagrangian term last time goes straight to it: the term leaves the step
     # unchanged, and testing W alone again costs a factorisation per iteration)
     CtC = _gram(C, is_sparse) if rho > 0.0 else None  # (no product on iterations where W alone will do)
     if CtC is None:
         if _positive_definite(W, is_sparse):
-            return W, 0.0, 0.0
+            return _sorted(W, is_sparse), 0.0, 0.0
         if rho <= 0.0:
             CtC = _gram(C, is_sparse)
     diag = W.diagonal() if is_sparse else np.diag(W)
@@ -115,14 +134,14 @@ def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0) -> tu
             r0 = 1e-3 * scale / base
             r = r0 if rho <= 0.0 else max(rho, r0) if is_sparse else rho / 4.0
             for _ in range(12):
-                B = W + r * CtC
+                B = _sorted(W + r * CtC, is_sparse)
                 if _positive_definite(B, is_sparse):
                     return B, 0.0, r
                 r *= 10.0
     eye = sp.identity(n, format="csc") if is_sparse else np.eye(n)
     delta = max(shift / 4.0, 1e-8 * scale)
     for _ in range(40):
-        B = W + delta * eye
+        B = _sorted(W + delta * eye, is_sparse)
         if _positive_definite(B, is_sparse):
             return B, delta, 0.0
         delta *= 10.0
@@ -147,6 +166,17 @@ def _gram(C: Any, is_sparse: bool) -> Any:
         return None
     CtC = sp.csc_matrix(C.T @ C)
     return CtC if CtC.nnz <= SPARSE_GRAM_DENSITY * CtC.shape[0] else None
+
+
+def _sorted(B: Any, is_sparse: bool) -> Any:
+    """``B`` as CSC with sorted row indices when sparse (a sum of sparse matrices need not have them, and PIQP
+    rejects unsorted ones; the factorisation of :func:`_positive_definite` must not be relied on to sort them)."""
+    if not is_sparse:
+        return B
+    B = sp.csc_matrix(B)
+    if not B.has_sorted_indices:
+        B.sort_indices()
+    return B
 
 
 def _positive_definite(B: Any, is_sparse: bool) -> bool:

@@ -12,6 +12,7 @@ from numpy.typing import NDArray
 from sqp.iterate import Evaluator, Point, State
 from sqp.options import Options
 from sqp.problem import Problem
+from sqp.structured import needs_convexification
 from sqp.subproblem import LinearisedRows, QPStep, linearise, solve_subproblem
 
 Array = NDArray[np.float64]
@@ -34,11 +35,21 @@ def qp_step(problem: Problem, options: Options, st: State, rho: float) -> tuple[
 
     The slack price starts at ``max(100, 10 max mu, 10 ||g||_inf)`` and grows tenfold (up to
     :data:`MAX_ELASTIC_PENALTY`) only while the elastic step removes less than a tenth of the linearised violation.
+
+    An indefinite :class:`sqp.structured.FactoredHessian` in ``st.B`` (an exact Hessian left unconvexified by
+    :func:`sqp.hessian.convexify`) serves an equality-only QP whose KKT matrix has the right inertia; otherwise
+    ``st.B`` is replaced by its convexification here, before any backend sees it.
     """
     nl, lin = linearised(problem, st)
     x = st.pt.x
     kw = {"backends": options.backends, "initvals": None if st.qp is None else st.qp.d}
-    qp = solve_subproblem(st.B, st.der.g, nl, lin, *_box(problem, options, x), **kw)
+    box = _box(problem, options, x)
+    if needs_convexification(st.B) and not _equality_only(problem, box):
+        st.B = st.B.convexified()
+    qp = solve_subproblem(st.B, st.der.g, nl, lin, *box, **kw)
+    if not qp.found and needs_convexification(st.B):  # K's inertia is wrong: W is not convex on E's null space
+        st.B = st.B.convexified()
+        qp = solve_subproblem(st.B, st.der.g, nl, lin, *box, **kw)
     rows = problem.nonlinear
     v0 = float(np.sum(rows.violation(st.pt.c)))
     if qp.found and v0 > 0.1 * options.tol and len(options.backends) > 1 and not qp.elastic:
@@ -87,6 +98,13 @@ def second_order_correction(
 def trial_point(problem: Problem, ev: Evaluator, x: Array, step: Array) -> Point:
     """``x + step`` clipped into the bounds (rounding only: the QP keeps the bounds), evaluated."""
     return ev.point(np.clip(x + step, problem.lower, problem.upper))
+
+
+def _equality_only(problem: Problem, box: tuple[Array, Array]) -> bool:
+    """Whether the QP has equality rows only: no inequality side of any row, no finite bound on the step."""
+    rows = (problem.nonlinear, problem.linear)
+    return (not any(r.lower.size or r.upper.size for r in rows)
+            and not (np.any(np.isfinite(box[0])) or np.any(np.isfinite(box[1]))))
 
 
 def _box(problem: Problem, options: Options, x: Array) -> tuple[Array, Array]:

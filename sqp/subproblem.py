@@ -31,6 +31,7 @@ from numpy.typing import NDArray
 
 from sqp.backends import RETRY_QP_OPTIONS
 from sqp.problem import Rows
+from sqp.structured import equality_kkt, needs_convexification
 
 Array = NDArray[np.float64]
 
@@ -235,7 +236,9 @@ def solve_subproblem(
     Parameters
     ----------
     B : (n, n) array or sparse matrix
-        Positive-definite model Hessian.
+        Positive-definite model Hessian, or an indefinite :class:`sqp.structured.FactoredHessian`, which only an
+        equality-only QP whose KKT matrix has the right inertia can use (any other QP fails at once with status
+        ``"indefinite"``: the caller convexifies it and asks again).
     g : (n,) array
         Objective gradient.
     nonlinear, linear : LinearisedRows
@@ -255,12 +258,15 @@ def solve_subproblem(
     if elastic_penalty is None:
         E, e, G, h, where = _stack_rows([nonlinear, linear], n)
         if not has_box and G.shape[0] == 0:
-            step = _equality_qp(B, g, E, e, scale)
+            step = _checked(B, g, E, e, scale, equality_kkt(B, g, E, e)) if sp.issparse(B) else _equality_qp(
+                B, g, E, e, scale)
             if step is not None:
                 d, y = step
                 return QPStep(d=d, lam_nl=_row_multipliers(nonlinear.rows, y, np.zeros(0), where[0]),
                               lam_lin=_row_multipliers(linear.rows, y, np.zeros(0), where[1]), z=np.zeros(n),
                               found=True, elastic=False, slack=0.0, status="kkt")
+        if needs_convexification(B):
+            return _failed(n, nonlinear, linear, "indefinite")
         sol, used = _solve(backends, B, g, G, h, E, e, box_lo if has_box else None, box_hi if has_box else None,
                            initvals, scale)
         if sol is None:
@@ -273,6 +279,8 @@ def solve_subproblem(
             lam_lin=_row_multipliers(linear.rows, y, z, where[1]), z=zb, found=True, elastic=False, slack=0.0,
             status="optimal" if used == backends[0][0] else f"opt[{used}]",
         )
+    if needs_convexification(B):
+        return _failed(n, nonlinear, linear, "indefinite")
     return _solve_elastic(B, g, nonlinear, linear, box_lo, box_hi, backends, initvals, elastic_penalty, scale)
 
 
@@ -296,8 +304,16 @@ def _equality_qp(B: Any, g: Array, E: Any, e: Array, scale: float) -> tuple[Arra
         sol = np.linalg.solve(K, np.concatenate((-g, e)))
     except np.linalg.LinAlgError:
         return None
-    d, y = sol[:n], sol[n:]
-    if not np.all(np.isfinite(sol)):
+    return _checked(B, g, E, e, scale, (sol[:n], sol[n:]))
+
+
+def _checked(B: Any, g: Array, E: Any, e: Array, scale: float,
+             step: tuple[Array, Array] | None) -> tuple[Array, Array] | None:
+    """``step = (d, y)`` when it is finite and passes the residual check of a backend's answer, else None."""
+    if step is None:
+        return None
+    d, y = step
+    if not (np.all(np.isfinite(d)) and np.all(np.isfinite(y))):
         return None
     dual = float(np.max(np.abs(B @ d + g + E.T @ y), initial=0.0))
     prim = float(np.max(np.abs(E @ d - e), initial=0.0))

@@ -110,18 +110,21 @@ def _segment_curves(
     phase = (a0 + (a1 - a0) * u) - np.array([0.0, 0.5 * np.pi])[:, None, None]  # cos(θ − π/2) = sin θ
     grid = np.linspace(-NEWTON_GRID, NEWTON_GRID, NEWTON_GRID_POINTS)
     c = np.stack(np.meshgrid(grid, grid, indexing="ij"), axis=-1).reshape(-1, 2)  # (G, 2)
-    tx, ty = (p1 - p0) / length
+    target = ((p1 - p0) / length)[:, None]  # (2, 1)
+    step = np.empty_like(c)
     for _ in range(NEWTON_STEPS):
         m = np.cos(phase + c @ basis) @ weights  # (2, G, 3): [cos, sin] × [mean, d/dc₁ (of θ), d/dc₂]
-        rx, ry = m[0, :, 0] - tx, m[1, :, 0] - ty  # end-point miss / ℓ
-        a, b, d1, d2 = -m[1, :, 1], -m[1, :, 2], m[0, :, 1], m[0, :, 2]  # Jacobian [[a, b], [d1, d2]] of (rx, ry)
-        det = a * d2 - b * d1
+        r = m[:, :, 0] - target  # end-point miss / ℓ, (2, G)
+        (cos1, cos2), (sin1, sin2) = m[0, :, 1:].T, m[1, :, 1:].T  # Jacobian [[−sin1, −sin2], [cos1, cos2]]
+        det = sin2 * cos1 - sin1 * cos2
         inv = np.divide(1.0, det, out=np.zeros_like(det), where=np.abs(det) > 1e-12)
-        step = np.column_stack(((b * ry - d2 * rx) * inv, (d1 * rx - a * ry) * inv))  # the 2x2 Newton solve
+        step[:, 0] = -(sin2 * r[1] + cos2 * r[0]) * inv  # the 2x2 Newton solve (signs folded in: the same
+        step[:, 1] = (cos1 * r[0] + sin1 * r[1]) * inv  # rounding as with the negated Jacobian entries)
         size = np.abs(step).max(axis=1)
         c += step * np.minimum(1.0, 1.0 / np.maximum(size, 1e-300))[:, None]  # |Δc| ≤ 1
         if size.max() <= 1e-13:
             break
+    tx, ty = target[:, 0]
     m = np.cos(phase + c @ basis) @ weights
     miss = np.hypot(m[0, :, 0] - tx, m[1, :, 0] - ty) * length
     slope = (a1 - a0) + np.pi * c[:, :1] * np.cos(np.pi * u) + 2.0 * np.pi * c[:, 1:] * np.cos(2.0 * np.pi * u)

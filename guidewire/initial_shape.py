@@ -26,6 +26,7 @@ the start decides which one the solver finds. The default start aims at the lowe
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any
 
@@ -89,6 +90,23 @@ def _pose_angles(points: list[FloatArray], angles: list[float | None]) -> list[f
     return out
 
 
+@functools.cache
+def _curve_tables() -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+    """What every call of :func:`_segment_curves` shares (read-only): the sample points ``u`` (M,), the basis
+    ``sin(πu), sin(2πu)`` (2, M), the weights (M, 3) whose one matrix product gives the means of (cos θ, sin θ) and
+    their derivatives in c (columns mean, d/dc₁, d/dc₂), the grid of starts (G, 2) and ``cos(πu), cos(2πu)``."""
+    u = (np.arange(CURVE_SAMPLES) + 0.5) / CURVE_SAMPLES  # midpoints, s = u ℓ
+    basis = np.stack((np.sin(np.pi * u), np.sin(2.0 * np.pi * u)))
+    weights = np.column_stack((np.ones(CURVE_SAMPLES), basis.T)) / CURVE_SAMPLES
+    grid = np.linspace(-NEWTON_GRID, NEWTON_GRID, NEWTON_GRID_POINTS)
+    starts = np.stack(np.meshgrid(grid, grid, indexing="ij"), axis=-1).reshape(-1, 2)
+    slopes = np.stack((np.cos(np.pi * u), np.cos(2.0 * np.pi * u)))
+    tables = (u, basis, weights, starts, slopes)
+    for table in tables:
+        table.flags.writeable = False
+    return tables
+
+
 def _segment_curves(
     p0: FloatArray, p1: FloatArray, a0: float, a1: float, length: float
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -103,13 +121,9 @@ def _segment_curves(
     energy : ndarray, shape (G,)
         ``∫ θ'² ds`` of each curve (1/mm), the bending energy over ``EI/2``.
     """
-    u = (np.arange(CURVE_SAMPLES) + 0.5) / CURVE_SAMPLES  # midpoints, s = u ℓ
-    basis = np.stack((np.sin(np.pi * u), np.sin(2.0 * np.pi * u)))  # (2, M)
-    # one matrix product gives the means of (cos θ, sin θ) and their derivatives in c: columns mean, d/dc₁, d/dc₂
-    weights = np.column_stack((np.ones(CURVE_SAMPLES), basis.T)) / CURVE_SAMPLES  # (M, 3)
+    u, basis, weights, starts, slopes = _curve_tables()
     phase = (a0 + (a1 - a0) * u) - np.array([0.0, 0.5 * np.pi])[:, None, None]  # cos(θ − π/2) = sin θ
-    grid = np.linspace(-NEWTON_GRID, NEWTON_GRID, NEWTON_GRID_POINTS)
-    c = np.stack(np.meshgrid(grid, grid, indexing="ij"), axis=-1).reshape(-1, 2)  # (G, 2)
+    c = starts.copy()  # (G, 2)
     target = ((p1 - p0) / length)[:, None]  # (2, 1)
     step = np.empty_like(c)
     for _ in range(NEWTON_STEPS):
@@ -127,7 +141,7 @@ def _segment_curves(
     tx, ty = target[:, 0]
     m = np.cos(phase + c @ basis) @ weights
     miss = np.hypot(m[0, :, 0] - tx, m[1, :, 0] - ty) * length
-    slope = (a1 - a0) + np.pi * c[:, :1] * np.cos(np.pi * u) + 2.0 * np.pi * c[:, 1:] * np.cos(2.0 * np.pi * u)
+    slope = (a1 - a0) + np.pi * c[:, :1] * slopes[0] + 2.0 * np.pi * c[:, 1:] * slopes[1]
     energy = np.mean(slope**2, axis=1) / length  # ∫ (dθ/ds)² ds
     return c, miss, energy
 

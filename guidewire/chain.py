@@ -19,6 +19,7 @@ between segments, never a contact moved.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -27,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 if TYPE_CHECKING:
-    from .scene import Scene
+    from .scene import Scene, Wire
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int_]
@@ -115,12 +116,25 @@ def place_bars(length: float, bars: int, contact_s: Sequence[float], breakpoints
 
 def scene_bars(scene: Scene) -> tuple[FloatArray, IntArray]:
     """The bars of a scene: the wire's explicit ``bar_lengths`` (checked by :func:`explicit_bars`), else
-    :func:`place_bars` (a node at every contact and section boundary, positions bridged)."""
+    :func:`place_bars` (a node at every contact and section boundary, positions bridged).
+
+    They depend only on the wire and the contacts' arc lengths and kinds, so the last few layouts are kept
+    (:func:`_wire_bars`): the steps of a sequence moving contact points, and repeated solves of one scene, reuse
+    them. The arrays returned are read-only (shared)."""
     contacts = scene.contacts
-    if scene.wire.bar_lengths is not None:
-        return explicit_bars(scene.wire.bar_lengths, [c.s for c in contacts], scene.wire.section_boundaries())
-    return place_bars(scene.wire.length, scene.wire.bars, [c.s for c in contacts], scene.wire.section_boundaries(),
-                      [c.point is not None for c in contacts])
+    return _wire_bars(scene.wire, tuple(c.s for c in contacts), tuple(c.point is not None for c in contacts))
+
+
+@functools.lru_cache(maxsize=32)
+def _wire_bars(wire: Wire, contact_s: tuple[float, ...], pinned: tuple[bool, ...]) -> tuple[FloatArray, IntArray]:
+    """:func:`scene_bars` of a wire with contacts at ``contact_s`` (``pinned``: the contact prescribes a point)."""
+    if wire.bar_lengths is not None:
+        out = explicit_bars(wire.bar_lengths, contact_s, wire.section_boundaries())
+    else:
+        out = place_bars(wire.length, wire.bars, contact_s, wire.section_boundaries(), pinned)
+    for array in out:
+        array.flags.writeable = False
+    return out
 
 
 def explicit_bars(lengths: Sequence[float], contact_s: Sequence[float], breakpoints: Sequence[float] = (),

@@ -88,8 +88,9 @@ class EnergyTerms:
 
     @cached_property
     def _coo(self) -> tuple[IntArray, IntArray, FloatArray]:
-        m = self.matrix.tocoo()
-        return m.row.astype(np.intp), m.col.astype(np.intp), m.data
+        D = self.matrix  # canonical CSR: the (row, column) order of ``tocoo``, without building the COO matrix
+        rows = np.repeat(np.arange(D.shape[0], dtype=np.intp), np.diff(D.indptr))
+        return rows, D.indices.astype(np.intp), D.data
 
     def joint_angles(self, phi: FloatArray) -> FloatArray:
         """``Δ_t = D_t φ − r_t`` in rad, shape (m,): the bend away from the rest shape (the elastic part)."""
@@ -141,7 +142,8 @@ class EnergyTerms:
     @property
     def row_sum(self) -> FloatArray:
         """``D_t 1`` per term: 0 for a joint between two bars, ±1 for a term with a prescribed tangent."""
-        return np.asarray(self.matrix.sum(axis=1)).ravel()
+        rows, _, data = self._coo
+        return np.bincount(rows, data, minlength=self.offset.size)
 
     def node_rows(self, n_nodes: int) -> tuple[sp.csr_matrix, FloatArray]:
         """Terms summed per node: ``(D_node, r_node)`` with ``D_node φ − r_node`` the node's total angle jump.
@@ -211,10 +213,12 @@ def bending_terms(
     left, right, offset, dual, node = (np.concatenate(parts) for parts in zip(*blocks, strict=True))
     order = np.lexsort((np.arange(node.size), node))  # by node; at a split node the left half first
     left, right, offset, dual, node = left[order], right[order], offset[order], dual[order], node[order]
-    rows = np.arange(node.size)
-    data = np.concatenate((np.full(int(np.sum(left >= 0)), -1.0), np.ones(int(np.sum(right >= 0)))))
-    ij = (np.concatenate((rows[left >= 0], rows[right >= 0])), np.concatenate((left[left >= 0], right[right >= 0])))
-    matrix = sp.csr_matrix((data, ij), shape=(node.size, n))
+    # D straight in CSR: a row holds its left bar (−1) before its right one (+1), the order a COO assembly gives
+    has = np.column_stack((left >= 0, right >= 0))
+    indptr = np.concatenate(([0], np.cumsum(has.sum(axis=1)))).astype(np.int32)
+    indices = np.column_stack((left, right))[has].astype(np.int32)
+    data = np.broadcast_to(np.array([-1.0, 1.0]), has.shape)[has]
+    matrix = sp.csr_matrix((data, indices, indptr), shape=(node.size, n))
     if np.ndim(stiffness) == 0:
         weight = float(stiffness) / (2.0 * dual)  # the uniform wire, exactly as before
     else:

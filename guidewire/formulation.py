@@ -285,10 +285,10 @@ class Formulation:
                 parts.append(np.abs(c) if con["type"] == "eq" else np.maximum(-c, 0.0))
         return np.concatenate(parts)
 
-    def max_violation(self, phi: FloatArray) -> float:
+    def max_violation(self, phi: FloatArray, nodes: FloatArray | None = None) -> float:
         """Largest violation (mm or rad) of any block at the bar angles ``phi`` — walls at every node, not only
-        their working set."""
-        points = self.model.chain.nodes(phi)
+        their working set. ``nodes``: the chain's nodes at ``phi`` when the caller has them."""
+        points = self.model.chain.nodes(phi) if nodes is None else nodes
         return max((float(np.max(b.violation(self.model, phi, points), initial=0.0)) for b in self.blocks),
                    default=0.0)
 

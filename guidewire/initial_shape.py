@@ -26,6 +26,7 @@ the start decides which one the solver finds. The default start aims at the lowe
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any
 
@@ -89,6 +90,23 @@ def _pose_angles(points: list[FloatArray], angles: list[float | None]) -> list[f
     return out
 
 
+@functools.cache
+def _curve_tables() -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+    """What every call of :func:`_segment_curves` shares (read-only): the sample points ``u`` (M,), the basis
+    ``sin(πu), sin(2πu)`` (2, M), the weights (M, 3) whose one matrix product gives the means of (cos θ, sin θ) and
+    their derivatives in c (columns mean, d/dc₁, d/dc₂), the grid of starts (G, 2) and ``cos(πu), cos(2πu)``."""
+    u = (np.arange(CURVE_SAMPLES) + 0.5) / CURVE_SAMPLES  # midpoints, s = u ℓ
+    basis = np.stack((np.sin(np.pi * u), np.sin(2.0 * np.pi * u)))
+    weights = np.column_stack((np.ones(CURVE_SAMPLES), basis.T)) / CURVE_SAMPLES
+    grid = np.linspace(-NEWTON_GRID, NEWTON_GRID, NEWTON_GRID_POINTS)
+    starts = np.stack(np.meshgrid(grid, grid, indexing="ij"), axis=-1).reshape(-1, 2)
+    slopes = np.stack((np.cos(np.pi * u), np.cos(2.0 * np.pi * u)))
+    tables = (u, basis, weights, starts, slopes)
+    for table in tables:
+        table.flags.writeable = False
+    return tables
+
+
 def _segment_curves(
     p0: FloatArray, p1: FloatArray, a0: float, a1: float, length: float
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -103,28 +121,27 @@ def _segment_curves(
     energy : ndarray, shape (G,)
         ``∫ θ'² ds`` of each curve (1/mm), the bending energy over ``EI/2``.
     """
-    u = (np.arange(CURVE_SAMPLES) + 0.5) / CURVE_SAMPLES  # midpoints, s = u ℓ
-    basis = np.stack((np.sin(np.pi * u), np.sin(2.0 * np.pi * u)))  # (2, M)
-    # one matrix product gives the means of (cos θ, sin θ) and their derivatives in c: columns mean, d/dc₁, d/dc₂
-    weights = np.column_stack((np.ones(CURVE_SAMPLES), basis.T)) / CURVE_SAMPLES  # (M, 3)
+    u, basis, weights, starts, slopes = _curve_tables()
     phase = (a0 + (a1 - a0) * u) - np.array([0.0, 0.5 * np.pi])[:, None, None]  # cos(θ − π/2) = sin θ
-    grid = np.linspace(-NEWTON_GRID, NEWTON_GRID, NEWTON_GRID_POINTS)
-    c = np.stack(np.meshgrid(grid, grid, indexing="ij"), axis=-1).reshape(-1, 2)  # (G, 2)
-    tx, ty = (p1 - p0) / length
+    c = starts.copy()  # (G, 2)
+    target = ((p1 - p0) / length)[:, None]  # (2, 1)
+    step = np.empty_like(c)
     for _ in range(NEWTON_STEPS):
         m = np.cos(phase + c @ basis) @ weights  # (2, G, 3): [cos, sin] × [mean, d/dc₁ (of θ), d/dc₂]
-        rx, ry = m[0, :, 0] - tx, m[1, :, 0] - ty  # end-point miss / ℓ
-        a, b, d1, d2 = -m[1, :, 1], -m[1, :, 2], m[0, :, 1], m[0, :, 2]  # Jacobian [[a, b], [d1, d2]] of (rx, ry)
-        det = a * d2 - b * d1
+        r = m[:, :, 0] - target  # end-point miss / ℓ, (2, G)
+        (cos1, cos2), (sin1, sin2) = m[0, :, 1:].T, m[1, :, 1:].T  # Jacobian [[−sin1, −sin2], [cos1, cos2]]
+        det = sin2 * cos1 - sin1 * cos2
         inv = np.divide(1.0, det, out=np.zeros_like(det), where=np.abs(det) > 1e-12)
-        step = np.column_stack(((b * ry - d2 * rx) * inv, (d1 * rx - a * ry) * inv))  # the 2x2 Newton solve
+        step[:, 0] = -(sin2 * r[1] + cos2 * r[0]) * inv  # the 2x2 Newton solve (signs folded in: the same
+        step[:, 1] = (cos1 * r[0] + sin1 * r[1]) * inv  # rounding as with the negated Jacobian entries)
         size = np.abs(step).max(axis=1)
         c += step * np.minimum(1.0, 1.0 / np.maximum(size, 1e-300))[:, None]  # |Δc| ≤ 1
         if size.max() <= 1e-13:
             break
+    tx, ty = target[:, 0]
     m = np.cos(phase + c @ basis) @ weights
     miss = np.hypot(m[0, :, 0] - tx, m[1, :, 0] - ty) * length
-    slope = (a1 - a0) + np.pi * c[:, :1] * np.cos(np.pi * u) + 2.0 * np.pi * c[:, 1:] * np.cos(2.0 * np.pi * u)
+    slope = (a1 - a0) + np.pi * c[:, :1] * slopes[0] + 2.0 * np.pi * c[:, 1:] * slopes[1]
     energy = np.mean(slope**2, axis=1) / length  # ∫ (dθ/ds)² ds
     return c, miss, energy
 

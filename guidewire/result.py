@@ -359,7 +359,7 @@ def build_solution(form: Formulation, res: Any, solve_time_s: float, *, iteratio
     multipliers = form.multipliers(res)
     phi = form.answer(np.asarray(res.x, dtype=float), multipliers)
     nodes = form.chain.nodes(phi)
-    max_violation = form.max_violation(phi)
+    max_violation = form.max_violation(phi, nodes)
     success, status = bool(res.success), int(res.status)
     message = str(res.message) if message is None else message
     defect = shape_defect(form, nodes, max_violation, tol) if success else None

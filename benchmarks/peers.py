@@ -44,6 +44,7 @@ import _guidewire as G
 import _tables as T
 import _timing
 import numpy as np
+from _headline import growth, headline
 from _peers import PEER_MAX_ITER, STRUCTURE_LIMIT
 from _structure_limit import applicable
 
@@ -341,9 +342,10 @@ def write(rows: list[dict[str, Any]], solvers: list[str], bars: tuple[int, ...],
             cells.append(text)
         body.append([e["solver"], f"{e['solved']}/{e['problems']}", *cells])
     lines += T.markdown_table(header, body)
-    lines += ["", "## Headline: ours against the fastest peer that solved, per problem", ""]
-    lines += _headline(main_rows, bars)
-    lines += _growth(main_rows, bars)
+    lines += ["", "## Headline: ours against the fastest peer that solved, and the distance to the structure limit, "
+              "per problem", ""]
+    lines += headline(main_rows, bars)
+    lines += growth(main_rows, bars)
     lines += ["", "## Time per scene (elastica start)", "",
               "Cell: median time, ×ours; flags: F = solver reported failure, B = other (higher) branch, "
               "~ = same branch but energy off by 1e-6..1e-3, I = infeasible answer; *stopped* = one solve passed "
@@ -408,57 +410,6 @@ def write(rows: list[dict[str, Any]], solvers: list[str], bars: tuple[int, ...],
     T.write_markdown(lines, stem.with_suffix(".md"))
     print("\n".join(lines[: lines.index("## Time per scene (elastica start)")]))
     plot(main_rows, order, bars, stem.with_suffix(".png"))
-
-
-def _headline(rows: list[dict[str, Any]], bars: tuple[int, ...]) -> list[str]:
-    """Per n: sgm over problems of ours and of the fastest solved peer, and the ratio."""
-    peers = {r["solver"] for r in rows if not r["solver"].startswith("ours")}
-    body = []
-    for n in bars:
-        ratios, ours_t, peer_t, which = [], [], [], []
-        for scene in dict.fromkeys(r["scene"] for r in rows):
-            rs = [r for r in rows if r["scene"] == scene and r["n"] == n]
-            ours = next((r for r in rs if r["solver"] == "ours" and r["solved"]), None)
-            solved_peers = [r for r in rs if r["solver"] in peers and r["solved"]]
-            if ours is None or not solved_peers:
-                continue
-            fastest = min(solved_peers, key=lambda r: r["time_s"])
-            ratios.append(fastest["time_s"] / ours["time_s"])
-            ours_t.append(ours["time_s"])
-            peer_t.append(fastest["time_s"])
-            which.append(fastest["solver"])
-        if not ratios:
-            body.append([n, 0, "—", "—", "—", "—", "—"])
-            continue
-        names = ", ".join(f"{k} {which.count(k)}" for k in sorted(set(which)))
-        body.append([n, len(ratios), f"{1e3 * _timing.sgm(ours_t):.3g}", f"{1e3 * _timing.sgm(peer_t):.3g}",
-                     f"{float(np.exp(np.mean(np.log(ratios)))):.2g}", f"{min(ratios):.2g}", names])
-    return T.markdown_table(["n", "problems (ours and a peer solved)", "ours sgm (ms)", "fastest peer sgm (ms)",
-                             "peer/ours (geo. mean)", "peer/ours (worst)", "fastest peer"], body)
-
-
-def _growth(rows: list[dict[str, Any]], bars: tuple[int, ...]) -> list[str]:
-    """Cost growth of ours from n = 100 to the largest n: the exponent ``p`` of ``time ∝ n^p`` per scene (solved at
-    both ends), and of the sgm over the scenes solved at both."""
-    lo, hi = 100, max(bars)
-    if lo not in bars or hi <= lo:
-        return []
-    pairs = []
-    for scene in dict.fromkeys(r["scene"] for r in rows):
-        a = next((r for r in rows if r["scene"] == scene and r["n"] == lo and r["solver"] == "ours" and r["solved"]),
-                 None)
-        b = next((r for r in rows if r["scene"] == scene and r["n"] == hi and r["solver"] == "ours" and r["solved"]),
-                 None)
-        if a is not None and b is not None:
-            pairs.append((scene, a["time_s"], b["time_s"]))
-    if not pairs:
-        return []
-    k = math.log(hi / lo)
-    per = [math.log(t1 / t0) / k for _, t0, t1 in pairs]
-    whole = math.log(_timing.sgm([p[2] for p in pairs]) / _timing.sgm([p[1] for p in pairs])) / k
-    worst = max(zip(per, (p[0] for p in pairs), strict=True))
-    return ["", f"Cost growth of ours from n = {lo} to n = {hi} ({len(pairs)} scenes solved at both): sgm time ∝ "
-            f"n^{whole:.2f}; per scene n^{min(per):.2f} … n^{worst[0]:.2f} ({worst[1]})."]
 
 
 def plot(rows: list[dict[str, Any]], solvers: list[str], bars: tuple[int, ...], path: Path) -> None:

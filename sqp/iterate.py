@@ -10,6 +10,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from sqp.hessian import DENSE_LIMIT
+from sqp.kkt import max_violation
 from sqp.problem import NonlinearBlock, Problem, call_user, check_jacobian_shape
 from sqp.subproblem import QPStep
 
@@ -22,16 +23,18 @@ _EMPTY.flags.writeable = False
 
 @dataclass(frozen=True)
 class Point:
-    """Values at ``x``: objective ``f``, nonlinear rows ``c`` (stacked) and linear rows ``r = A x``."""
+    """Values at ``x``: objective ``f``, nonlinear rows ``c`` (stacked) and linear rows ``r = A x``, with what every
+    step of the iteration reads from them, computed once (:meth:`Evaluator.point`): the nonlinear rows' violations
+    ``v`` (:meth:`~sqp.problem.Rows.violation`), the largest violation of any row or bound ``maxcv``
+    (:func:`~sqp.kkt.max_violation`) and whether ``f`` and ``c`` are ``finite``."""
 
     x: Array
     f: float
     c: Array
     r: Array
-
-    @property
-    def finite(self) -> bool:
-        return bool(np.isfinite(self.f) and np.all(np.isfinite(self.c)))
+    v: Array
+    maxcv: float
+    finite: bool
 
 
 @dataclass(frozen=True)
@@ -114,7 +117,8 @@ class Evaluator:
         # (the stacking copies the user's arrays: a function that reuses its output buffer cannot change a Point)
         c = np.concatenate([self._c(b, x) for b in p.blocks]) if p.blocks else _EMPTY
         r = np.asarray(p.A @ x, dtype=float).ravel() if p.A.shape[0] else _EMPTY
-        return Point(x=x, f=f, c=c, r=r)
+        finite = bool(np.isfinite(f) and np.isfinite(c).all())
+        return Point(x=x, f=f, c=c, r=r, v=p.nonlinear.violation(c), maxcv=max_violation(p, x, c, r), finite=finite)
 
     def derivatives(self, pt: Point) -> Derivatives:
         """Gradient and nonlinear Jacobian at an evaluated point."""

@@ -11,7 +11,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from sqp.iterate import Point, State
-from sqp.kkt import KKTResiduals, cancellation, kkt_residuals, max_violation
+from sqp.kkt import KKTResiduals, cancellation, kkt_residuals
 from sqp.options import Options
 from sqp.problem import Problem
 from sqp.result import Result, Status
@@ -149,10 +149,10 @@ def negligible(x: Array, x_new: Array) -> bool:
 def stalled_status(problem: Problem, st: State, d: Array) -> Status:
     """Why no step was accepted: non-finite values along the step, a vanishing step, or a failed search."""
     if np.max(np.abs(d), initial=0.0) <= VANISHING_STEP * (1.0 + np.max(np.abs(st.pt.x))):
-        if st.qp is not None and st.qp.elastic and np.max(problem.nonlinear.violation(st.pt.c), initial=0.0) > 0:
+        if st.qp is not None and st.qp.elastic and np.max(st.pt.v, initial=0.0) > 0:
             return Status.INFEASIBLE
         return Status.SMALL_STEP
-    if st.qp is not None and st.qp.elastic and max_violation(problem, st.pt.x, st.pt.c, st.pt.r) > INFEASIBLE_VIOLATION:
+    if st.qp is not None and st.qp.elastic and st.pt.maxcv > INFEASIBLE_VIOLATION:
         # the linearisation is inconsistent here and no step along the elastic direction reduces the merit: a
         # (local) minimiser of the violation, not a derivative or scaling problem
         return Status.INFEASIBLE

@@ -94,32 +94,40 @@ def _stack_rows(parts: list[LinearisedRows], n: int) -> tuple[Any, Array, Any, A
     """Equalities ``E d = e`` and inequalities ``G d <= h`` of several row kinds, and where each kind's rows went."""
     E_list, e_list, G_list, h_list, where = [], [], [], [], []
     n_eq = n_in = 0
-    for part in parts:
+    for part in parts:  # (only the kinds of rows present: most problems have one or two)
         r = part.rows
         M = part.M
-        E_list.append(M[r.eq])
-        e_list.append(part.lo[r.eq])
-        G_list.append(-M[r.lower])
-        h_list.append(-part.lo[r.lower])
-        G_list.append(M[r.upper])
-        h_list.append(part.hi[r.upper])
+        if r.eq.size:
+            E_list.append(M[r.eq])
+            e_list.append(part.lo[r.eq])
+        if r.lower.size:
+            G_list.append(-M[r.lower])
+            h_list.append(-part.lo[r.lower])
+        if r.upper.size:
+            G_list.append(M[r.upper])
+            h_list.append(part.hi[r.upper])
         where.append((n_eq, n_in, n_in + r.lower.size))
         n_eq += r.eq.size
         n_in += r.lower.size + r.upper.size
     E = _vstack(E_list, n)
     G = _vstack(G_list, n)
-    e = np.concatenate(e_list) if e_list else np.zeros(0)
-    h = np.concatenate(h_list) if h_list else np.zeros(0)
+    e = _concatenate(e_list)
+    h = _concatenate(h_list)
     return E, e, G, h, where
 
 
+def _concatenate(parts: list[Array]) -> Array:
+    """The vectors end to end (a single one as it is: every part is a fresh array)."""
+    return parts[0] if len(parts) == 1 else np.concatenate(parts) if parts else np.zeros(0)
+
+
 def _vstack(blocks: list[Any], n: int) -> Any:
-    blocks = [b for b in blocks if b.shape[0]]
+    """The nonempty blocks stacked (a single one as it is); CSC when any is sparse."""
     if not blocks:
         return np.zeros((0, n))
     if any(sp.issparse(b) for b in blocks):
         return sp.vstack(blocks, format="csc")
-    return np.vstack(blocks)
+    return blocks[0] if len(blocks) == 1 else np.vstack(blocks)
 
 
 def _row_multipliers(rows: Rows, y: Array, z: Array, where: tuple[int, ...]) -> Array:

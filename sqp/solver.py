@@ -27,7 +27,7 @@ from sqp.backends import AUTO, auto_choice
 from sqp.build import build_problem
 from sqp.hessian_strategy import HessianStrategy, hessian_strategy
 from sqp.iterate import Derivatives, Evaluator, Point, State
-from sqp.kkt import KKTResiduals
+from sqp.kkt import KKTResiduals, inf_norm
 from sqp.linesearch import Search, merit_search
 from sqp.merit import penalties
 from sqp.monitor import Monitor, Stop
@@ -317,7 +317,7 @@ def _record(problem: Problem, ev: Evaluator, nit: int, st: State, kkt: KKTResidu
     assert st.qp is not None
     return IterationRecord(
         nit=nit + 1, nfev=ev.nfev, f=st.pt.f, maxcv=st.pt.maxcv,
-        kkt=kkt.worst, step=float(np.max(np.abs(s), initial=0.0)), alpha=search.alpha,
+        kkt=kkt.worst, step=inf_norm(s), alpha=search.alpha,
         penalty=float(np.max(st.mu, initial=0.0)), qp_status=st.qp.status, damped=damped, soc=search.soc,
     )
 

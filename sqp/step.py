@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from sqp.iterate import Evaluator, Point, State
+from sqp.kkt import inf_norm
 from sqp.options import Options
 from sqp.problem import Problem
 from sqp.structured import needs_convexification
@@ -65,7 +66,7 @@ def qp_step(problem: Problem, options: Options, st: State, rho: float) -> tuple[
     if qp.found or rows.lb.size == 0:
         return qp, 0.0
     rho = min(MAX_ELASTIC_PENALTY, max(1e2, 10.0 * float(np.max(st.mu, initial=0.0)),
-                                       10.0 * float(np.max(np.abs(st.der.g)))))
+                                       10.0 * inf_norm(st.der.g)))
     while True:
         qp = solve_subproblem(st.B, st.der.g, nl, lin, *_box(problem, options, x), elastic_penalty=rho,
                               **kw)

@@ -47,7 +47,7 @@ class Derivatives:
     @property
     def finite(self) -> bool:
         data = self.J.data if sp.issparse(self.J) else self.J
-        return bool(np.all(np.isfinite(self.g)) and np.all(np.isfinite(data)))
+        return bool(np.isfinite(self.g).all() and np.isfinite(data).all())
 
 
 class Evaluator:
@@ -118,7 +118,8 @@ class Evaluator:
         c = np.concatenate([self._c(b, x) for b in p.blocks]) if p.blocks else _EMPTY
         r = np.asarray(p.A @ x, dtype=float).ravel() if p.A.shape[0] else _EMPTY
         finite = bool(np.isfinite(f) and np.isfinite(c).all())
-        return Point(x=x, f=f, c=c, r=r, v=p.nonlinear.violation(c), maxcv=max_violation(p, x, c, r), finite=finite)
+        v = p.nonlinear.violation(c)
+        return Point(x=x, f=f, c=c, r=r, v=v, maxcv=max_violation(p, x, c, r, v), finite=finite)
 
     def derivatives(self, pt: Point) -> Derivatives:
         """Gradient and nonlinear Jacobian at an evaluated point."""

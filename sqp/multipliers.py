@@ -13,7 +13,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from sqp.iterate import Derivatives, State
-from sqp.kkt import inf_norm, lagrangian_gradient
+from sqp.kkt import inf_norm
 from sqp.problem import Problem
 from sqp.subproblem import QPStep
 
@@ -58,7 +58,9 @@ def newton_multipliers(problem: Problem, st: State, qp: QPStep, rows: Array, wei
 
 def nonlinear_lagrangian_gradient(problem: Problem, der: Derivatives, qp: QPStep) -> Array:
     """Only the nonlinear rows matter for ``y``: linear rows and bounds have constant gradients."""
-    return lagrangian_gradient(der.g, der.J, qp.lam_nl, problem.A, np.zeros(0), np.zeros(der.g.size))
+    lam = qp.lam_nl
+    # (lagrangian_gradient without the linear rows and bounds: g - J^T lam)
+    return np.asarray(der.g - der.J.T @ lam).ravel() if lam.size else der.g.copy()
 
 
 def loaded_rows_active(problem: Problem, st: State, tol: float) -> bool:

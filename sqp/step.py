@@ -105,7 +105,7 @@ def _equality_only(problem: Problem, box: tuple[Array, Array]) -> bool:
     """Whether the QP has equality rows only: no inequality side of any row, no finite bound on the step."""
     rows = (problem.nonlinear, problem.linear)
     return (not any(r.lower.size or r.upper.size for r in rows)
-            and not (np.any(np.isfinite(box[0])) or np.any(np.isfinite(box[1]))))
+            and not (np.isfinite(box[0]).any() or np.isfinite(box[1]).any()))
 
 
 def _box(problem: Problem, options: Options, x: Array) -> tuple[Array, Array]:

@@ -215,7 +215,7 @@ def _silence_c_stdout() -> Iterator[None]:
 
 
 def _trusted(sol: qpsolvers.Solution | None, scale: float) -> bool:
-    if sol is None or not sol.found or sol.x is None or not np.all(np.isfinite(sol.x)):
+    if sol is None or not sol.found or sol.x is None or not np.isfinite(sol.x).all():
         return False
     try:
         with np.errstate(all="ignore"):  # (an overflowing answer fails the test below; no warning for it)
@@ -261,7 +261,7 @@ def solve_subproblem(
         Price ``rho`` of a unit of slack; solves the elastic QP when given.
     """
     n = g.size
-    has_box = bool(np.any(np.isfinite(box_lo)) or np.any(np.isfinite(box_hi)))
+    has_box = bool(np.isfinite(box_lo).any() or np.isfinite(box_hi).any())
     scale = max(1.0, inf_norm(g))
     if elastic_penalty is None:
         E, e, G, h, where = _stack_rows([nonlinear, linear], n)
@@ -321,7 +321,7 @@ def _checked(B: Any, g: Array, E: Any, e: Array, scale: float,
     if step is None:
         return None
     d, y = step
-    if not (np.all(np.isfinite(d)) and np.all(np.isfinite(y))):
+    if not (np.isfinite(d).all() and np.isfinite(y).all()):
         return None
     dual = inf_norm(B @ d + g + E.T @ y)
     prim = inf_norm(E @ d - e)

@@ -219,12 +219,34 @@ def _trusted(sol: qpsolvers.Solution | None, scale: float) -> bool:
         return False
     try:
         with np.errstate(all="ignore"):  # (an overflowing answer fails the test below; no warning for it)
-            prim = sol.primal_residual()
-            dual = sol.dual_residual()
+            prim, dual = _residuals(sol)
     except (ValueError, ArithmeticError):  # an answer of the wrong shape, or overflowing
         return False
     return bool(np.isfinite(prim) and np.isfinite(dual) and prim <= QP_RESIDUAL_TOL * scale
                 and dual <= QP_RESIDUAL_TOL * scale)
+
+
+def _residuals(sol: qpsolvers.Solution) -> tuple[float, float]:
+    """qpsolvers' ``primal_residual()`` and ``dual_residual()`` of a found solution, the same numbers by the same
+    operations in the same order, in one pass over the problem (a third of their cost on small QPs):
+    ``max(0, [G x - h]^+, ||A x - b||_inf, [lb - x]^+, [x - ub]^+)`` and ``||P x + q + G^T z + A^T y + z_box||_inf``
+    (``inf`` when a multiplier the problem needs is missing)."""
+    qp, x = sol.problem, sol.x
+    prim = 0.0
+    r = qp.P.dot(x) + qp.q
+    if qp.G is not None:
+        prim = max(prim, float(np.max(qp.G.dot(x) - qp.h)))
+        r = r + qp.G.T.dot(sol.z) if sol.z is not None else None
+    if qp.A is not None:
+        prim = max(prim, float(np.max(np.abs(qp.A.dot(x) - qp.b))))
+        r = None if r is None or sol.y is None else r + qp.A.T.dot(sol.y)
+    if qp.lb is not None:
+        prim = max(prim, float(np.max(qp.lb - x)))
+    if qp.ub is not None:
+        prim = max(prim, float(np.max(x - qp.ub)))
+    if qp.lb is not None or qp.ub is not None:
+        r = None if r is None or sol.z_box is None else r + sol.z_box
+    return prim, (np.inf if r is None else inf_norm(r))
 
 
 def solve_subproblem(

@@ -186,7 +186,11 @@ class Evaluator:
                 continue
             assert block.hess is not None
             name = block.part("hess")
-            W = W - _as_format(self._hessian(name, call_user(name, block.hess, x, self.where, v), n), dense)
+            Hc = self._hessian(name, call_user(name, block.hess, x, self.where, v), n)
+            if dense:  # (in place: W is this function's own copy)
+                W -= Hc.toarray() if sp.issparse(Hc) else Hc
+            else:
+                W = W - _as_format(Hc, dense)
         if sp.issparse(W):
             return sp.csc_matrix(W)
         return np.asarray(W)

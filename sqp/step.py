@@ -98,7 +98,8 @@ def second_order_correction(
 
 def trial_point(problem: Problem, ev: Evaluator, x: Array, step: Array) -> Point:
     """``x + step`` clipped into the bounds (rounding only: the QP keeps the bounds), evaluated."""
-    return ev.point(np.clip(x + step, problem.lower, problem.upper))
+    x_new = x + step
+    return ev.point(np.clip(x_new, problem.lower, problem.upper) if problem.has_bounds else x_new)
 
 
 def _equality_only(problem: Problem, box: tuple[Array, Array]) -> bool:

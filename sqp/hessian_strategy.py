@@ -16,6 +16,7 @@ from numpy.typing import NDArray
 
 from sqp.hessian import convexify, damped_bfgs_update, initial_scaling
 from sqp.iterate import Derivatives, Evaluator, State
+from sqp.kkt import inf_norm
 from sqp.multipliers import al_rows, equality_rows, newton_multipliers, nonlinear_lagrangian_gradient
 from sqp.problem import Problem
 from sqp.subproblem import QPStep
@@ -75,8 +76,8 @@ class DampedBFGS:
         if B0 is not None:
             return np.eye(self.problem.n) if sp.issparse(B0) else B0.copy()
         # the identity, scaled so that the first (steepest-descent) step is at most FIRST_STEP_LENGTH max(1, |x|)
-        g = float(np.max(np.abs(st.der.g), initial=0.0))
-        size = max(1.0, float(np.max(np.abs(st.pt.x), initial=0.0)))
+        g = inf_norm(st.der.g)
+        size = max(1.0, inf_norm(st.pt.x))
         return np.eye(self.problem.n) * max(1.0, g / (FIRST_STEP_LENGTH * size))
 
     def model(self, ev: Evaluator, st: State) -> Any:

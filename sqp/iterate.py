@@ -10,6 +10,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from sqp.hessian import DENSE_LIMIT
+from sqp.kkt import max_violation
 from sqp.problem import NonlinearBlock, Problem, call_user, check_jacobian_shape
 from sqp.subproblem import QPStep
 
@@ -22,16 +23,18 @@ _EMPTY.flags.writeable = False
 
 @dataclass(frozen=True)
 class Point:
-    """Values at ``x``: objective ``f``, nonlinear rows ``c`` (stacked) and linear rows ``r = A x``."""
+    """Values at ``x``: objective ``f``, nonlinear rows ``c`` (stacked) and linear rows ``r = A x``, with what every
+    step of the iteration reads from them, computed once (:meth:`Evaluator.point`): the nonlinear rows' violations
+    ``v`` (:meth:`~sqp.problem.Rows.violation`), the largest violation of any row or bound ``maxcv``
+    (:func:`~sqp.kkt.max_violation`) and whether ``f`` and ``c`` are ``finite``."""
 
     x: Array
     f: float
     c: Array
     r: Array
-
-    @property
-    def finite(self) -> bool:
-        return bool(np.isfinite(self.f) and np.all(np.isfinite(self.c)))
+    v: Array
+    maxcv: float
+    finite: bool
 
 
 @dataclass(frozen=True)
@@ -44,7 +47,7 @@ class Derivatives:
     @property
     def finite(self) -> bool:
         data = self.J.data if sp.issparse(self.J) else self.J
-        return bool(np.all(np.isfinite(self.g)) and np.all(np.isfinite(data)))
+        return bool(np.isfinite(self.g).all() and np.isfinite(data).all())
 
 
 class Evaluator:
@@ -114,7 +117,9 @@ class Evaluator:
         # (the stacking copies the user's arrays: a function that reuses its output buffer cannot change a Point)
         c = np.concatenate([self._c(b, x) for b in p.blocks]) if p.blocks else _EMPTY
         r = np.asarray(p.A @ x, dtype=float).ravel() if p.A.shape[0] else _EMPTY
-        return Point(x=x, f=f, c=c, r=r)
+        finite = bool(np.isfinite(f) and np.isfinite(c).all())
+        v = p.nonlinear.violation(c)
+        return Point(x=x, f=f, c=c, r=r, v=v, maxcv=max_violation(p, x, c, r, v), finite=finite)
 
     def derivatives(self, pt: Point) -> Derivatives:
         """Gradient and nonlinear Jacobian at an evaluated point."""
@@ -181,7 +186,11 @@ class Evaluator:
                 continue
             assert block.hess is not None
             name = block.part("hess")
-            W = W - _as_format(self._hessian(name, call_user(name, block.hess, x, self.where, v), n), dense)
+            Hc = self._hessian(name, call_user(name, block.hess, x, self.where, v), n)
+            if dense:  # (in place: W is this function's own copy)
+                W -= Hc.toarray() if sp.issparse(Hc) else Hc
+            else:
+                W = W - _as_format(Hc, dense)
         if sp.issparse(W):
             return sp.csc_matrix(W)
         return np.asarray(W)

@@ -104,11 +104,12 @@ def cancellation(problem: Problem, x: Array, g: Array, J: Any, lam_nl: Array, la
     return max(1.0, float(np.max(terms * typical, initial=0.0)) / scale)
 
 
-def max_violation(problem: Problem, x: Array, c: Array, r: Array) -> float:
-    """Largest absolute violation of the nonlinear rows, the linear rows and the bounds."""
+def max_violation(problem: Problem, x: Array, c: Array, r: Array, v_nl: Array | None = None) -> float:
+    """Largest absolute violation of the nonlinear rows, the linear rows and the bounds (``v_nl``: the nonlinear
+    rows' violations at ``c``, when already known)."""
     v = 0.0
     if c.size:
-        v = float(problem.nonlinear.violation(c).max())
+        v = float((problem.nonlinear.violation(c) if v_nl is None else v_nl).max())
     if r.size:
         v = max(v, float(problem.linear.violation(r).max()))
     if problem.has_bounds:

@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from sqp.iterate import Derivatives, Evaluator, Point, State
-from sqp.merit import ARMIJO, merit, next_step_length
+from sqp.merit import ARMIJO, merit_at, next_step_length
 from sqp.options import Options
 from sqp.problem import Problem
 from sqp.step import second_order_correction, trial_point
@@ -55,7 +55,7 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
     """
     rows = problem.nonlinear
     # (the violations at x and of the linearisation at x + d, once: merit(), directional_derivative() in one)
-    v0 = rows.violation(st.pt.c)
+    v0 = st.pt.v
     v_lin = rows.violation(st.pt.c + st.der.J @ d)
     gd = float(st.der.g @ d)
     phi0 = float(st.pt.f + mu @ v0)
@@ -78,8 +78,8 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
             # the step is below the rounding level of x: no progress is possible along d
             return Search(alpha=tried, nonfinite=nonfinite, mu=mu)
         tried = alpha
-        nonfinite = ev.nonfinite_source(trial)
-        phi = merit(trial.f, trial.c, rows, mu)
+        nonfinite = None if trial.finite else ev.nonfinite_source(trial)
+        phi = merit_at(trial, mu)
         if phi <= phi0 + ARMIJO * alpha * D:
             der = ev.derivatives(trial)
             if der.finite:
@@ -88,7 +88,7 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
         if not tried_soc and _curvature_rejected(trial, v_lin, mu, phi0 + ARMIJO * D):
             tried_soc = True
             corrected = second_order_correction(problem, options, ev, st, d, trial)
-            if corrected is not None and merit(corrected.f, corrected.c, rows, mu) <= phi0 + ARMIJO * D:
+            if corrected is not None and merit_at(corrected, mu) <= phi0 + ARMIJO * D:
                 der = ev.derivatives(corrected)
                 if der.finite:
                     return Search(corrected, der, 1.0, True, mu=mu)

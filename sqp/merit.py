@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from sqp.iterate import State
+from sqp.iterate import Point, State
 from sqp.problem import Problem, Rows
 from sqp.subproblem import QPStep
 
@@ -33,6 +33,13 @@ def merit(f: float, c: Array, rows: Rows, mu: Array) -> float:
     if not np.isfinite(f) or not np.all(np.isfinite(c)):
         return np.inf
     return float(f + mu @ rows.violation(c))
+
+
+def merit_at(pt: Point, mu: Array) -> float:
+    """:func:`merit` at an evaluated point, from the violations it holds."""
+    if not pt.finite:
+        return np.inf
+    return float(pt.f + mu @ pt.v)
 
 
 def directional_derivative(g: Array, d: Array, c: Array, Jd: Array, rows: Rows, mu: Array) -> float:
@@ -77,6 +84,6 @@ def penalties(problem: Problem, st: State, qp: QPStep) -> Array:
     mu = update_penalty(st.mu, qp.lam_nl)
     if mu.size:
         d, rows = qp.d, problem.nonlinear
-        dv = float(np.sum(rows.violation(st.pt.c)) - np.sum(rows.violation(st.pt.c + st.der.J @ d)))
+        dv = float(np.sum(st.pt.v) - np.sum(rows.violation(st.pt.c + st.der.J @ d)))
         mu = np.maximum(mu, descent_penalty(float(st.der.g @ d), float(d @ (st.B @ d)), dv))
     return mu

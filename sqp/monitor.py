@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from sqp.iterate import Point, State
-from sqp.kkt import KKTResiduals
+from sqp.kkt import KKTResiduals, inf_norm
 from sqp.multipliers import loaded_rows_active
 from sqp.options import Options
 from sqp.problem import Problem, format_point
@@ -154,7 +154,7 @@ class Monitor:
         only confirm it."""
         early = CONFIRMED_TOLERANCE * self.tol
         assert st.qp is not None
-        if (maxcv <= early * max(1.0, float(np.max(np.abs(st.pt.x), initial=0.0)))  # (the feasibility test first)
+        if (maxcv <= early * max(1.0, inf_norm(st.pt.x))  # (the feasibility test first)
                 and not at_step_bound(options, st.qp.d) and kkt_at(self.problem, st, maxcv).satisfied(early)
                 and loaded_rows_active(self.problem, st, early)):
             return Stop(Status.SUCCESS)

@@ -13,7 +13,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from sqp.iterate import Derivatives, State
-from sqp.kkt import lagrangian_gradient
+from sqp.kkt import inf_norm
 from sqp.problem import Problem
 from sqp.subproblem import QPStep
 
@@ -58,7 +58,9 @@ def newton_multipliers(problem: Problem, st: State, qp: QPStep, rows: Array, wei
 
 def nonlinear_lagrangian_gradient(problem: Problem, der: Derivatives, qp: QPStep) -> Array:
     """Only the nonlinear rows matter for ``y``: linear rows and bounds have constant gradients."""
-    return lagrangian_gradient(der.g, der.J, qp.lam_nl, problem.A, np.zeros(0), np.zeros(der.g.size))
+    lam = qp.lam_nl
+    # (lagrangian_gradient without the linear rows and bounds: g - J^T lam)
+    return np.asarray(der.g - der.J.T @ lam).ravel() if lam.size else der.g.copy()
 
 
 def loaded_rows_active(problem: Problem, st: State, tol: float) -> bool:
@@ -68,7 +70,7 @@ def loaded_rows_active(problem: Problem, st: State, tol: float) -> bool:
     qp = st.qp
     assert qp is not None
     x = st.pt.x
-    limit = tol * max(1.0, float(np.max(np.abs(x), initial=0.0)))
+    limit = tol * max(1.0, inf_norm(x))
     for rows, values, lam in ((problem.nonlinear, st.pt.c, qp.lam_nl), (problem.linear, st.pt.r, qp.lam_lin),
                               (problem.bound_rows if problem.has_bounds else None, x, qp.z)):
         if rows is None or lam.size == 0:

@@ -27,7 +27,7 @@ from sqp.backends import AUTO, auto_choice
 from sqp.build import build_problem
 from sqp.hessian_strategy import HessianStrategy, hessian_strategy
 from sqp.iterate import Derivatives, Evaluator, Point, State
-from sqp.kkt import KKTResiduals, max_violation
+from sqp.kkt import KKTResiduals, inf_norm
 from sqp.linesearch import Search, merit_search
 from sqp.merit import penalties
 from sqp.monitor import Monitor, Stop
@@ -227,7 +227,7 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
         return failed, False
     hessian = hessian_strategy(problem, B0, lam0)
     st = replace(st, B=hessian.initial(st))
-    monitor = Monitor(problem, options.tol, options.max_iter, st.pt, max_violation(problem, st.pt.x, st.pt.c, st.pt.r))
+    monitor = Monitor(problem, options.tol, options.max_iter, st.pt, st.pt.maxcv)
     history: list[IterationRecord] = []
     rho = 0.0  # the elastic QP's slack price
     stop = Stop(Status.MAX_ITER)
@@ -316,8 +316,8 @@ def _record(problem: Problem, ev: Evaluator, nit: int, st: State, kkt: KKTResidu
     """The history row of iteration ``nit + 1``, which reached ``st`` by the step ``s``."""
     assert st.qp is not None
     return IterationRecord(
-        nit=nit + 1, nfev=ev.nfev, f=st.pt.f, maxcv=max_violation(problem, st.pt.x, st.pt.c, st.pt.r),
-        kkt=kkt.worst, step=float(np.max(np.abs(s), initial=0.0)), alpha=search.alpha,
+        nit=nit + 1, nfev=ev.nfev, f=st.pt.f, maxcv=st.pt.maxcv,
+        kkt=kkt.worst, step=inf_norm(s), alpha=search.alpha,
         penalty=float(np.max(st.mu, initial=0.0)), qp_status=st.qp.status, damped=damped, soc=search.soc,
     )
 

@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from sqp.iterate import Evaluator, Point, State
+from sqp.kkt import inf_norm
 from sqp.options import Options
 from sqp.problem import Problem
 from sqp.structured import needs_convexification
@@ -51,7 +52,7 @@ def qp_step(problem: Problem, options: Options, st: State, rho: float) -> tuple[
         st.B = st.B.convexified()
         qp = solve_subproblem(st.B, st.der.g, nl, lin, *box, **kw)
     rows = problem.nonlinear
-    v0 = float(np.sum(rows.violation(st.pt.c)))
+    v0 = float(np.sum(st.pt.v))
     if qp.found and v0 > 0.1 * options.tol and len(options.backends) > 1 and not qp.elastic:
         # a consistent linearisation is met exactly by the QP's step; an answer that leaves the (small) violation
         # where it was hides inside the backend's own feasibility tolerance (DAQP: 1e-6): ask the next backend
@@ -65,7 +66,7 @@ def qp_step(problem: Problem, options: Options, st: State, rho: float) -> tuple[
     if qp.found or rows.lb.size == 0:
         return qp, 0.0
     rho = min(MAX_ELASTIC_PENALTY, max(1e2, 10.0 * float(np.max(st.mu, initial=0.0)),
-                                       10.0 * float(np.max(np.abs(st.der.g)))))
+                                       10.0 * inf_norm(st.der.g)))
     while True:
         qp = solve_subproblem(st.B, st.der.g, nl, lin, *_box(problem, options, x), elastic_penalty=rho,
                               **kw)
@@ -97,14 +98,15 @@ def second_order_correction(
 
 def trial_point(problem: Problem, ev: Evaluator, x: Array, step: Array) -> Point:
     """``x + step`` clipped into the bounds (rounding only: the QP keeps the bounds), evaluated."""
-    return ev.point(np.clip(x + step, problem.lower, problem.upper))
+    x_new = x + step
+    return ev.point(np.clip(x_new, problem.lower, problem.upper) if problem.has_bounds else x_new)
 
 
 def _equality_only(problem: Problem, box: tuple[Array, Array]) -> bool:
     """Whether the QP has equality rows only: no inequality side of any row, no finite bound on the step."""
     rows = (problem.nonlinear, problem.linear)
     return (not any(r.lower.size or r.upper.size for r in rows)
-            and not (np.any(np.isfinite(box[0])) or np.any(np.isfinite(box[1]))))
+            and not (np.isfinite(box[0]).any() or np.isfinite(box[1]).any()))
 
 
 def _box(problem: Problem, options: Options, x: Array) -> tuple[Array, Array]:

@@ -11,7 +11,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from sqp.iterate import Point, State
-from sqp.kkt import KKTResiduals, cancellation, kkt_residuals, max_violation
+from sqp.kkt import KKTResiduals, cancellation, inf_norm, kkt_residuals
 from sqp.options import Options
 from sqp.problem import Problem
 from sqp.result import Result, Status
@@ -95,7 +95,7 @@ class Origin:
 def diverging(origin: Origin, pt: Point, maxcv: float, tol: float) -> bool:
     """Whether ``pt`` is feasible and both its objective and its size have run away from the start by
     :data:`DIVERGENCE_FACTOR` (an unbounded problem)."""
-    x_size = float(np.max(np.abs(pt.x), initial=0.0))
+    x_size = inf_norm(pt.x)
     if maxcv > tol * max(1.0, x_size):
         return False
     return bool(pt.f < origin.f - DIVERGENCE_FACTOR * max(1.0, abs(origin.f))
@@ -137,22 +137,22 @@ def closer(second: Result, first: Result, tol: float) -> bool:
 def at_step_bound(options: Options, d: Array) -> bool:
     """Whether the step ``d`` reaches ``options.step_bound`` in some component (to a relative 1e-9)."""
     return bool(np.isfinite(options.step_bound)
-                and np.max(np.abs(d), initial=0.0) >= (1.0 - 1e-9) * options.step_bound)
+                and inf_norm(d) >= (1.0 - 1e-9) * options.step_bound)
 
 
 def negligible(x: Array, x_new: Array) -> bool:
     """Whether a step changed x by at most :data:`NEGLIGIBLE_STEP` relative to ``1 + ||x||_inf`` (rounding noise in
     f or c drives such steps)."""
-    return bool(np.max(np.abs(x_new - x), initial=0.0) <= NEGLIGIBLE_STEP * (1.0 + np.max(np.abs(x), initial=0.0)))
+    return bool(inf_norm(x_new - x) <= NEGLIGIBLE_STEP * (1.0 + inf_norm(x)))
 
 
 def stalled_status(problem: Problem, st: State, d: Array) -> Status:
     """Why no step was accepted: non-finite values along the step, a vanishing step, or a failed search."""
-    if np.max(np.abs(d), initial=0.0) <= VANISHING_STEP * (1.0 + np.max(np.abs(st.pt.x))):
-        if st.qp is not None and st.qp.elastic and np.max(problem.nonlinear.violation(st.pt.c), initial=0.0) > 0:
+    if inf_norm(d) <= VANISHING_STEP * (1.0 + inf_norm(st.pt.x)):
+        if st.qp is not None and st.qp.elastic and np.max(st.pt.v, initial=0.0) > 0:
             return Status.INFEASIBLE
         return Status.SMALL_STEP
-    if st.qp is not None and st.qp.elastic and max_violation(problem, st.pt.x, st.pt.c, st.pt.r) > INFEASIBLE_VIOLATION:
+    if st.qp is not None and st.qp.elastic and st.pt.maxcv > INFEASIBLE_VIOLATION:
         # the linearisation is inconsistent here and no step along the elastic direction reduces the merit: a
         # (local) minimiser of the violation, not a derivative or scaling problem
         return Status.INFEASIBLE

@@ -29,6 +29,7 @@ import qpsolvers
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from sqp import backends as _backends
 from sqp.backends import RETRY_QP_OPTIONS
 from sqp.kkt import inf_norm
 from sqp.problem import Rows
@@ -173,7 +174,7 @@ def _solve(
                 quiet = _silence_c_stdout() if solver == "osqp" else contextlib.nullcontext()
                 with warnings.catch_warnings(), quiet:
                     warnings.simplefilter("ignore")
-                    sol = qpsolvers.solve_problem(problem, solver=solver, initvals=initvals,
+                    sol = _backends.solve_problem(problem, solver=solver, initvals=initvals,
                                                   **{**options, **retry})
             except BACKEND_ERRORS:  # a backend's error is a failed subproblem; any other is our bug, and propagates
                 sol = None

@@ -8,12 +8,10 @@ structure, once per solve, by the rule of :func:`choose_qp_solver`; every measur
 
 from __future__ import annotations
 
-from ctypes import c_int
 from typing import Any
 
 import numpy as np
 import qpsolvers
-import scipy.sparse as sp
 
 from sqp.hessian import DENSE_LIMIT
 
@@ -131,17 +129,17 @@ def solve_problem(problem: qpsolvers.Problem, solver: str, initvals: Any = None,
     backend for an answer.
 
     DAQP with dense matrices is called directly (:func:`_daqp`): the same ``daqp.solve`` call with the same arrays
-    and settings as qpsolvers' DAQP interface, and the same :class:`qpsolvers.Solution` back, without that
-    interface's per-call work (measured 10.9 -> 3.4 us on a 5-variable QP with 3 rows and bounds, one BLAS thread).
-    Every other backend, and DAQP given sparse matrices, goes through qpsolvers.
+    and settings as qpsolvers' DAQP interface, and the same :class:`qpsolvers.Solution` back, with less per-call
+    work around it. Every other backend, and DAQP given sparse matrices, goes through qpsolvers.
 
     Returns
     -------
     qpsolvers.Solution
         The backend's answer (``found`` False when it found none).
     """
-    if solver == "daqp" and _daqp_module is not None and not any(
-            sp.issparse(M) for M in (problem.P, problem.G, problem.A)):
+    if (solver == "daqp" and _daqp_module is not None and isinstance(problem.P, np.ndarray)
+            and (problem.G is None or isinstance(problem.G, np.ndarray))
+            and (problem.A is None or isinstance(problem.A, np.ndarray))):
         return _daqp(problem, initvals, **options)
     return qpsolvers.solve_problem(problem, solver=solver, initvals=initvals, **options)
 
@@ -154,21 +152,26 @@ def _daqp(problem: qpsolvers.Problem, initvals: Any, **options: Any) -> qpsolver
     ms = n if (lb is not None or ub is not None) else 0
     mineq = 0 if G is None else G.shape[0]
     meq = 0 if A is None else A.shape[0]
-    upper = [np.full(n, _DAQP_INFINITY) if ub is None else ub] if ms else []
-    lower = [np.full(n, -_DAQP_INFINITY) if lb is None else lb] if ms else []
+    m = ms + mineq + meq
+    bupper = np.empty(m)
+    blower = np.full(m, -_DAQP_INFINITY)
+    if ms:
+        bupper[:ms] = _DAQP_INFINITY if ub is None else ub
+        if lb is not None:
+            blower[:ms] = lb
     if mineq:
-        upper.append(h)
-        lower.append(np.full(mineq, -_DAQP_INFINITY))
+        bupper[ms:ms + mineq] = h
     if meq:
-        upper.append(b)
-        lower.append(np.full(meq, -_DAQP_INFINITY))
-    rows = [M for M in (G, A) if M is not None]
-    Atot = rows[0] if len(rows) == 1 else np.vstack(rows) if rows else np.zeros((0, n))
-    bupper = np.concatenate(upper) if upper else np.zeros(0)
-    blower = np.concatenate(lower) if lower else np.zeros(0)
-    sense = np.zeros(ms + mineq + meq, dtype=c_int)
+        bupper[ms + mineq:] = b
+    if mineq and meq:
+        rows = np.empty((mineq + meq, n))
+        rows[:mineq] = G
+        rows[mineq:] = A
+    else:
+        rows = G if mineq else A if meq else np.zeros((0, n))
+    sense = np.zeros(m, dtype=np.intc)  # (DAQP's C int; numpy's intc, the fast spelling of ctypes.c_int)
     sense[ms + mineq:] = _DAQP_EQUALITY
-    x, obj, exitflag, info = _daqp_module.solve(P, q, Atot, bupper, blower, sense, primal_start=initvals, **options)
+    x, obj, exitflag, info = _daqp_module.solve(P, q, rows, bupper, blower, sense, primal_start=initvals, **options)
     sol = qpsolvers.Solution(problem)
     sol.found = exitflag > 0
     if sol.found:

@@ -1,14 +1,16 @@
 """The QP backends: which are installed, their settings, and the ``qp_solver="auto"`` policy.
 
 The engine solves its subproblems through `qpsolvers <https://github.com/qpsolvers/qpsolvers>`_, so any installed
-backend can be named. ``"auto"`` (the default) picks one from the model's structure, once per solve, by the rule of
-:func:`choose_qp_solver`; every measurement behind it is quoted there.
+backend can be named; every call goes through :func:`solve_problem`, which asks DAQP directly for dense data (the
+same call qpsolvers makes, without its per-call layer). ``"auto"`` (the default) picks one from the model's
+structure, once per solve, by the rule of :func:`choose_qp_solver`; every measurement behind it is quoted there.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
 import qpsolvers
 
 from sqp.hessian import DENSE_LIMIT
@@ -108,3 +110,72 @@ def choose_qp_solver(n: int, sparse_jacobians: bool, installed: list[str] | None
         The installed backends; default :func:`installed_solvers`.
     """
     return auto_choice(n, sparse_jacobians, installed)[0]
+
+
+try:
+    import daqp as _daqp_module
+except ImportError:  # pragma: no cover - DAQP not installed: qpsolvers reports it
+    _daqp_module = None
+
+#: DAQP's bound for a side that is absent (qpsolvers' DAQP interface uses the same).
+_DAQP_INFINITY = 1e30
+
+#: DAQP's sense flag of an equality row.
+_DAQP_EQUALITY = 5
+
+
+def solve_problem(problem: qpsolvers.Problem, solver: str, initvals: Any = None, **options: Any) -> Any:
+    """``qpsolvers.solve_problem(problem, solver, initvals=initvals, **options)``: the one place the engine asks a
+    backend for an answer.
+
+    DAQP with dense matrices is called directly (:func:`_daqp`): the same ``daqp.solve`` call with the same arrays
+    and settings as qpsolvers' DAQP interface, and the same :class:`qpsolvers.Solution` back, with less per-call
+    work around it. Every other backend, and DAQP given sparse matrices, goes through qpsolvers.
+
+    Returns
+    -------
+    qpsolvers.Solution
+        The backend's answer (``found`` False when it found none).
+    """
+    if (solver == "daqp" and _daqp_module is not None and isinstance(problem.P, np.ndarray)
+            and (problem.G is None or isinstance(problem.G, np.ndarray))
+            and (problem.A is None or isinstance(problem.A, np.ndarray))):
+        return _daqp(problem, initvals, **options)
+    return qpsolvers.solve_problem(problem, solver=solver, initvals=initvals, **options)
+
+
+def _daqp(problem: qpsolvers.Problem, initvals: Any, **options: Any) -> qpsolvers.Solution:
+    """qpsolvers' ``daqp_solve_problem`` for dense data: rows ordered bounds, ``G x <= h``, ``A x = b`` (sense 5),
+    absent sides at :data:`_DAQP_INFINITY`, multipliers split back into ``z_box``, ``z`` and ``y``."""
+    P, q, G, h, A, b, lb, ub = problem.unpack()
+    n = q.size
+    ms = n if (lb is not None or ub is not None) else 0
+    mineq = 0 if G is None else G.shape[0]
+    meq = 0 if A is None else A.shape[0]
+    m = ms + mineq + meq
+    bupper = np.empty(m)
+    blower = np.full(m, -_DAQP_INFINITY)
+    if ms:
+        bupper[:ms] = _DAQP_INFINITY if ub is None else ub
+        if lb is not None:
+            blower[:ms] = lb
+    if mineq:
+        bupper[ms:ms + mineq] = h
+    if meq:
+        bupper[ms + mineq:] = b
+    if mineq and meq:
+        rows = np.empty((mineq + meq, n))
+        rows[:mineq] = G
+        rows[mineq:] = A
+    else:
+        rows = G if mineq else A if meq else np.zeros((0, n))
+    sense = np.zeros(m, dtype=np.intc)  # (DAQP's C int; numpy's intc, the fast spelling of ctypes.c_int)
+    sense[ms + mineq:] = _DAQP_EQUALITY
+    x, obj, exitflag, info = _daqp_module.solve(P, q, rows, bupper, blower, sense, primal_start=initvals, **options)
+    sol = qpsolvers.Solution(problem)
+    sol.found = exitflag > 0
+    if sol.found:
+        lam = info["lam"]
+        sol.x, sol.obj = x, obj
+        sol.z_box, sol.z, sol.y = lam[:ms], lam[ms:ms + mineq], lam[ms + mineq:]
+    return sol

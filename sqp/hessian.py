@@ -122,8 +122,9 @@ def _convexify(W: Any, shift: float, C: Any, rho: float) -> tuple[Any, float, fl
     # unchanged, and testing W alone again costs a factorisation per iteration)
     CtC = _gram(C, is_sparse) if rho > 0.0 else None  # (no product on iterations where W alone will do)
     if CtC is None:
-        if _positive_definite(W, is_sparse):
-            return _sorted(W, is_sparse), 0.0, 0.0
+        B = _accepted(_sorted(W, is_sparse), is_sparse)
+        if B is not None:
+            return B, 0.0, 0.0
         if rho <= 0.0:
             CtC = _gram(C, is_sparse)
     diag = W.diagonal() if is_sparse else np.diag(W)
@@ -134,16 +135,17 @@ def _convexify(W: Any, shift: float, C: Any, rho: float) -> tuple[Any, float, fl
             r0 = 1e-3 * scale / base
             r = r0 if rho <= 0.0 else max(rho, r0) if is_sparse else rho / 4.0
             for _ in range(12):
-                B = _sorted(W + r * CtC, is_sparse)
-                if _positive_definite(B, is_sparse):
+                B = _accepted(_sorted(W + r * CtC, is_sparse), is_sparse)
+                if B is not None:
                     return B, 0.0, r
                 r *= 10.0
     eye = sp.identity(n, format="csc") if is_sparse else np.eye(n)
     delta = max(shift / 4.0, 1e-8 * scale)
     for _ in range(40):
         B = _sorted(W + delta * eye, is_sparse)
-        if _positive_definite(B, is_sparse):
-            return B, delta, 0.0
+        accepted = _accepted(B, is_sparse)
+        if accepted is not None:
+            return accepted, delta, 0.0
         delta *= 10.0
     return B, delta, 0.0
 
@@ -179,13 +181,21 @@ def _sorted(B: Any, is_sparse: bool) -> Any:
     return B
 
 
-def _positive_definite(B: Any, is_sparse: bool) -> bool:
-    if not is_sparse:
-        try:
-            np.linalg.cholesky(B)
-            return True
-        except np.linalg.LinAlgError:
-            return False
+def _accepted(B: Any, is_sparse: bool) -> Any | None:
+    """``B`` when it is positive definite, else None: a dense ``B`` as a :class:`CholeskyHessian` carrying the factor
+    its Cholesky test computed (the equality-only QP reuses it), a sparse one as it is (tested by
+    :func:`_positive_definite`)."""
+    if is_sparse:
+        return B if _positive_definite(B) else None
+    try:
+        return CholeskyHessian.wrap(B, np.linalg.cholesky(B))
+    except np.linalg.LinAlgError:
+        return None
+
+
+def _positive_definite(B: Any) -> bool:
+    """Whether the sparse symmetric ``B`` is positive definite: the pivots of its LU factorisation without pivoting
+    are all positive (Sylvester's law of inertia)."""
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -194,3 +204,31 @@ def _positive_definite(B: Any, is_sparse: bool) -> bool:
     except RuntimeError:  # exactly singular
         return False
     return bool(np.all(lu.perm_r == np.arange(B.shape[0])) and np.all(lu.U.diagonal() > 0))
+
+
+class CholeskyHessian(np.ndarray):
+    """A dense positive-definite model Hessian ``B`` carrying its Cholesky factor ``L`` (``B = L L^T``, lower), as
+    :func:`convexify` computed it to test ``B``: the dense analogue of :class:`sqp.structured.FactoredHessian`.
+
+    As an array it is ``B`` itself. The factor is a cache of this exact matrix, so nothing derived from it keeps it:
+    arithmetic gives plain arrays, and views and copies carry ``cholesky = None``.
+    """
+
+    cholesky: Array | None = None
+
+    @classmethod
+    def wrap(cls, B: Array, L: Array) -> CholeskyHessian:
+        """``B`` (a view, no copy) carrying its lower Cholesky factor ``L``."""
+        out = np.asarray(B).view(cls)
+        out.cholesky = L
+        return out
+
+    def __array_finalize__(self, obj: Any) -> None:
+        self.cholesky = None
+
+    def __array_wrap__(self, array: Any, context: Any = None, return_scalar: bool = False) -> Any:
+        out = np.asarray(array).view(np.ndarray)
+        return out[()] if return_scalar else out
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (np.array, (np.asarray(self).view(np.ndarray),))

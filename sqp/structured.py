@@ -26,6 +26,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
@@ -185,3 +186,25 @@ def equality_kkt(B: Any, g: Array, E: Any, e: Array) -> tuple[Array, Array] | No
     y = -(V @ ((V.T @ (e + Ed @ w)) / sigma))
     d = -(w + X @ y)
     return d, y
+
+
+def range_space_kkt(L: Array, g: Array, E: Array, e: Array) -> tuple[Array, Array] | None:
+    """The KKT point of ``min 1/2 d^T B d + g^T d  s.t.  E d = e`` from ``B = L L^T`` (Nocedal & Wright §16.2, the
+    Schur-complement method): ``[w, X] = B^{-1} [g, E^T]``, ``(E X) y = -(e + E w)``, ``d = -(w + X y)``; None when
+    the ``m x m`` Schur complement ``E X`` is exactly singular (dependent rows). The dense counterpart of
+    :func:`equality_kkt` for a positive-definite ``B`` (:class:`sqp.hessian.CholeskyHessian` carries ``L``).
+
+    Returns
+    -------
+    (d, y) or None
+        The step and the equality multipliers in qpsolvers' sign (``B d + g + E^T y = 0``).
+    """
+    WX = sla.cho_solve((L, True), np.column_stack((g, E.T)), check_finite=False)
+    w, X = WX[:, 0], WX[:, 1:]
+    if e.size == 0:
+        return -w, np.zeros(0)
+    try:
+        y = -np.linalg.solve(E @ X, e + E @ w)
+    except np.linalg.LinAlgError:
+        return None
+    return -(w + X @ y), y

@@ -13,10 +13,10 @@ import re
 
 import numpy as np
 import pytest
-import qpsolvers
 from scipy.optimize import LinearConstraint, NonlinearConstraint
 
 import sqp
+import sqp.backends
 import sqp.subproblem
 
 # min (x0 - 1)^2 + (x1 + 2)^2 s.t. x0^2 + x1^2 <= 1: the answer is (1, -2) / sqrt(5), reached from x0 = (0, 0)
@@ -356,8 +356,9 @@ def test_an_infeasible_problem_ends_infeasible_quickly(case):
 
 
 def _broken(monkeypatch, names, mode):
-    """Make qpsolvers' ``solve_problem``, as the engine calls it, fail for the backends ``names`` in a given way."""
-    real = qpsolvers.solve_problem
+    """Make the engine's one call to a backend (:func:`sqp.backends.solve_problem`: DAQP directly, the others through
+    qpsolvers) fail for the backends ``names`` in a given way."""
+    real = sqp.backends.solve_problem
 
     def fake(problem, solver, **kwargs):
         if solver in names:
@@ -376,7 +377,7 @@ def _broken(monkeypatch, names, mode):
             return sol
         return real(problem, solver=solver, **kwargs)
 
-    monkeypatch.setattr(sqp.subproblem.qpsolvers, "solve_problem", fake)
+    monkeypatch.setattr(sqp.backends, "solve_problem", fake)
 
 
 def test_a_bug_of_ours_around_a_backend_is_not_reported_as_a_failed_qp(monkeypatch):

@@ -11,6 +11,7 @@ from typing import Any
 
 import sqp
 
+from .branches import candidate_iterations, check_branches, lowest_branch
 from .formulation import LAYOUTS, Formulation, assemble, formulate
 from .result import Solution, build_solution
 from .scene import Scene
@@ -64,6 +65,7 @@ def solve(
     max_iter: int = 500,
     verbose: bool = False,
     tol_mm: float | None = None,
+    branches: str = "lowest",
 ) -> Solution:
     """Find the minimum-bending-energy shape of the wire in ``scene`` (paper §2.3) with :func:`sqp.minimize`.
 
@@ -96,6 +98,12 @@ def solve(
     tol_mm : float, optional
         Solve to this estimated mean node error (mm) instead of with ``bars``: doubled layouts and a Richardson
         estimate (:func:`guidewire.refine.solve_to_tolerance`); the answer carries ``error_estimate_mm``.
+    branches : {"lowest", "first"}
+        ``"lowest"`` (default): when the answer from the default start has a pose (the base or a contact with a
+        point) whose tangent is free, also solve from the mirror starts of :mod:`guidewire.branches` (that bow
+        reflected about the chord between poses) and keep the lowest energy; ``Solution.starts`` counts the starts.
+        Not with ``initial_angles``/``initial_nodes`` (a given start chooses its branch). ``"first"``: the default
+        start's answer only.
 
     Returns
     -------
@@ -115,6 +123,7 @@ def solve(
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene is {type(scene).__name__}; expected guidewire.Scene (see guidewire.load_scene).")
+    check_branches(branches)
     if tol_mm is not None:
         if any(v is not None for v in (bars, initial_angles, initial_nodes, multipliers0)):
             raise ValueError("tol_mm chooses the bars and the starts; do not pass bars, initial_angles, initial_nodes "
@@ -122,7 +131,7 @@ def solve(
         from .refine import solve_to_tolerance
 
         return solve_to_tolerance(scene, tol_mm, scheme=scheme, hessian=hessian, layout=layout, qp_solver=qp_solver,
-                                  qp_options=qp_options, tol=tol, max_iter=max_iter, verbose=verbose)
+                                  qp_options=qp_options, tol=tol, max_iter=max_iter, verbose=verbose, branches=branches)
     if hessian not in ("exact", "bfgs"):
         raise ValueError(f"hessian is {hessian!r}; expected 'exact' or 'bfgs'.")
     if layout not in ("auto", *LAYOUTS):
@@ -131,8 +140,14 @@ def solve(
         raise ValueError("layout='full' needs hessian='exact' (the BFGS path is the paper's reduced program).")
     start = time.perf_counter()
     with _blas().limit(limits=BLAS_THREADS, user_api="blas"):
-        return _solve(scene, start, scheme, bars, initial_angles, initial_nodes, hessian, layout, multipliers0,
-                      qp_solver, qp_options, tol, max_iter, verbose)
+        first = _solve(scene, start, scheme, bars, initial_angles, initial_nodes, hessian, layout, multipliers0,
+                       qp_solver, qp_options, tol, max_iter, verbose)
+        if branches == "first" or initial_angles is not None or initial_nodes is not None:
+            return first
+        limit = candidate_iterations(first, max_iter)
+        return lowest_branch(first, lambda x0: _solve(scene, time.perf_counter(), scheme, bars, x0, None, hessian,
+                                                      layout, None, qp_solver, qp_options, tol, limit, verbose),
+                             start)
 
 
 #: BLAS threads while solving: the matrices are small (≤ 300 variables dense; the full space is sparse), where a

@@ -37,6 +37,9 @@ SCENES = sorted(p for p in (Path(__file__).resolve().parents[1] / "guidewire" / 
 #: Relative excess over the generating chain's energy that counts as a miss.
 MISS_TOLERANCE = 1e-6
 
+#: Energy (N·mm) below which an excess is rounding (a straight generating chain has energy 0).
+ENERGY_FLOOR = 1e-12
+
 
 def main() -> None:
     ap = parser(__doc__, quick_help="100 scenes, one repeat", repeats=15)
@@ -55,7 +58,7 @@ def main() -> None:
             generating = float(formulate(scene, initial_angles=case.angles).fun(case.angles))
             for mode in modes:
                 sol = solve(scene, **({} if mode == "default" else {"branches": mode}))
-                excess = (sol.energy - generating) / max(generating, 1e-300)
+                excess = max(sol.energy - generating - ENERGY_FLOOR, 0.0) / max(generating, 1e-300)
                 rows.append({
                     "scene": index, "mode": mode, "bars": scene.wire.bars, "contacts": len(scene.contacts),
                     "angles": sum(c.angle is not None for c in scene.contacts), "walls": len(scene.walls),

@@ -127,6 +127,10 @@ class Solution:
         (``solve(multipliers0=solution)``).
     error_estimate_mm : float or None
         Estimated mean node error (mm) when solved with ``tol_mm`` (:mod:`guidewire.refine`), else None.
+    starts : int
+        Starts solved (:mod:`guidewire.branches`): 1, or 1 + the mirror starts tried where a free tangent left the
+        branch in doubt. ``iterations`` and ``rounds`` are those of the start that gave the answer; ``solve_time_s``
+        covers every start.
     """
 
     scene: Scene
@@ -154,6 +158,7 @@ class Solution:
     blocks: tuple[Block, ...] = ()
     multipliers: tuple[FloatArray, ...] = ()
     error_estimate_mm: float | None = None
+    starts: int = 1
 
     @property
     def scheme(self) -> str:

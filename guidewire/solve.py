@@ -11,6 +11,7 @@ from typing import Any
 
 import sqp
 
+from .branches import candidate_iterations, check_branches, lowest_branch
 from .formulation import LAYOUTS, Formulation, assemble, formulate
 from .result import Solution, build_solution
 from .scene import Scene
@@ -73,6 +74,7 @@ def solve(
     tol_mm: float | None = None,
     density: str | None = None,
     reuse: Any = None,
+    branches: str = "lowest",
 ) -> Solution:
     """Find the minimum-bending-energy shape of the wire in ``scene`` (paper §2.3) with :func:`sqp.minimize`.
 
@@ -112,6 +114,12 @@ def solve(
         ``bar_lengths``.
     reuse : guidewire.model.ModelReuse, optional
         Keep what the last scene formulated through it shares with ``scene`` (:func:`guidewire.solve_sequence`).
+    branches : {"lowest", "first"}
+        ``"lowest"`` (default): when the answer from the default start has a pose (the base or a contact with a
+        point) whose tangent is free, also solve from the mirror starts of :mod:`guidewire.branches` (that bow
+        reflected about the chord between poses) and keep the lowest energy; ``Solution.starts`` counts the starts.
+        Not with ``initial_angles``/``initial_nodes`` (a given start chooses its branch). ``"first"``: the default
+        start's answer only.
 
     Returns
     -------
@@ -131,6 +139,7 @@ def solve(
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene is {type(scene).__name__}; expected guidewire.Scene (see guidewire.load_scene).")
+    check_branches(branches)
     density = scene.wire.density if density is None else density
     if density not in (None, "uniform", "curvature"):
         raise ValueError(f"density is {density!r}; expected 'uniform' or 'curvature' (or None: the wire's).")
@@ -141,7 +150,8 @@ def solve(
         from . import refine
 
         kw = {"scheme": scheme, "hessian": hessian, "layout": layout, "qp_solver": qp_solver,
-              "qp_options": qp_options, "tol": tol, "max_iter": max_iter, "verbose": verbose}
+              "qp_options": qp_options, "tol": tol, "max_iter": max_iter, "verbose": verbose,
+              "branches": branches}
         if tol_mm is not None:
             return refine.solve_to_tolerance(scene, tol_mm, density=density or "curvature", **kw)
         return refine.solve_graded(scene, scene.wire.bars if bars is None else bars, **kw)
@@ -153,8 +163,14 @@ def solve(
         raise ValueError("layout='full' needs hessian='exact' (the BFGS path is the paper's reduced program).")
     start = time.perf_counter()
     with _blas().limit(limits=BLAS_THREADS, user_api="blas"):
-        return _solve(scene, start, scheme, bars, initial_angles, initial_nodes, hessian, layout, multipliers0,
-                      qp_solver, qp_options, tol, max_iter, verbose, reuse)
+        first = _solve(scene, start, scheme, bars, initial_angles, initial_nodes, hessian, layout, multipliers0,
+                       qp_solver, qp_options, tol, max_iter, verbose, reuse)
+        if branches == "first" or initial_angles is not None or initial_nodes is not None:
+            return first
+        limit = candidate_iterations(first, max_iter)
+        return lowest_branch(first, lambda x0: _solve(scene, time.perf_counter(), scheme, bars, x0, None, hessian,
+                                                      layout, None, qp_solver, qp_options, tol, limit, verbose),
+                             start)
 
 
 #: BLAS threads while solving: the matrices are small (≤ 300 variables dense; the full space is sparse), where a

@@ -1,0 +1,159 @@
+"""The lowest-energy branch: after the first solve, the mirror starts where a free tangent left the branch in doubt.
+
+A contact with a position and no tangent is a pin: the wire may pass it bowing either way, and the default start
+(:mod:`guidewire.initial_shape`) estimates the tangent there. Between two consecutive *poses* (the base and the
+contacts with a point) the wire bows to one side or the other, or makes an S; a local method (ours, like SLSQP or
+IPOPT) keeps the bow it starts with. Measured on 800 random generating-chain scenes (:mod:`guidewire.chain_scenes`,
+``benchmarks/branches.py``): the default start alone ends above the generating chain in 8 (1 %, up to 18 % more
+energy), every one of them next to a pin.
+
+With ``branches="lowest"`` (the default of :func:`guidewire.solve`), when the first answer succeeded and has a pose
+with a free tangent, each segment between poses gets a mirror start per free-tangent end: that end's tangent reflected
+about the segment's chord (which turns the segment's C into an S or back), every other pose keeping the first
+answer's tangent, re-sampled onto the chain by :func:`guidewire.initial_shape.initial_angles` (the scene with those
+tangents prescribed). A reflection that moves no tangent by more than :data:`SAME_BOW` is the first start again and
+is skipped. Each candidate is solved (at most :func:`candidate_iterations` iterations: a lower branch converges
+about as fast as the first, a failing one is cut short) and the lowest energy kept, lower by more than
+:data:`ENERGY_TIE` (relative) to replace an earlier answer; a failed or shape-rejected candidate never replaces a
+success. Scenes whose tangents are all prescribed (every paper scene) solve once, as before, and so do answers
+from the full-space layout (above 200 bars): there a candidate solved from a given start took 9 s where the first
+solve took 0.17 s (two contacts 0.5 mm apart, 400 bars; not yet understood), so the multi-start is limited to the
+reduced program for now.
+
+The candidates are built from the scene's geometry and the first answer only, so the mirrored or rotated scene gets
+the mirrored or rotated candidates, in the same order, and keeps the mirrored or rotated answer.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .chain import BarChain, scene_bars
+from .initial_shape import initial_angles
+from .result import Solution
+from .scene import Scene
+
+FloatArray = NDArray[np.float64]
+
+BRANCHES = ("lowest", "first")
+"""Values of ``solve(branches=...)``: the lowest energy of the mirror starts, or the default start's answer only."""
+
+SAME_BOW = 1e-3
+"""A reflection moving every reflected tangent by less than this (rad) starts where the first answer did: skipped."""
+
+ENERGY_TIE = 1e-6
+"""A candidate replaces the answer so far only when its energy is lower by more than this fraction (so rounding
+never swaps two answers of one minimum, and a mirrored scene keeps the mirrored answer)."""
+
+CANDIDATE_MIN_ITER, CANDIDATE_ITER_FACTOR = 50, 4
+"""A candidate may take ``max(CANDIDATE_MIN_ITER, CANDIDATE_ITER_FACTOR × the first answer's iterations)``
+iterations (never more than the caller's ``max_iter``); measured: candidates that converge take a median of 11,
+the failing ones (2 %) ran to the 500 limit."""
+
+
+def check_branches(branches: object) -> str:
+    """``branches`` if valid, else a ValueError naming the choices."""
+    if not isinstance(branches, str) or branches not in BRANCHES:
+        raise ValueError(f"branches is {branches!r}; expected 'lowest' (try the mirror starts where a free tangent "
+                         "leaves the branch in doubt, keep the lowest energy) or 'first' (the default start only).")
+    return branches
+
+
+def candidate_iterations(first: Solution, max_iter: int) -> int:
+    """Iteration limit of a candidate start's solve."""
+    return min(max_iter, max(CANDIDATE_MIN_ITER, CANDIDATE_ITER_FACTOR * first.iterations))
+
+
+def _reflect(angle: float, chord: float) -> float:
+    """``angle`` reflected about the direction ``chord`` (``2·chord − angle``), in ``angle``'s winding."""
+    return angle + math.remainder(2.0 * math.remainder(chord - angle, 2.0 * math.pi), 2.0 * math.pi)
+
+
+def mirror_starts(first: Solution) -> list[FloatArray]:
+    """The candidate starts of the module docstring for the scene ``first`` solved (empty when no pose has a free
+    tangent, or ``first`` failed).
+
+    Parameters
+    ----------
+    first : Solution
+        The answer from the default start (``first.scene`` with the bars and scheme used).
+
+    Returns
+    -------
+    list of ndarray, shape (n,)
+        Bar angles (rad), one array per candidate, in a fixed order: segment by segment from the base, its first
+        end reflected, then its second. (Reflecting both ends of a segment at once, a mirror C, found no lower
+        branch that these missed on the 800 benchmark scenes and cost a quarter more solves: not tried.)
+    """
+    scene = first.scene
+    if not first.success or first.layout != "reduced" or getattr(scene, "vessel", None) is not None:
+        return []
+    contacts = scene.contacts
+    posed = [i for i, c in enumerate(contacts) if c.point is not None]
+    free = [scene.base.angle is None] + [contacts[i].angle is None for i in posed]
+    if len(posed) == 0 or not any(free):
+        return []
+    lengths, contact_nodes = scene_bars(scene)
+    chain = BarChain(np.asarray(scene.base.point, dtype=float), lengths)
+    points = np.array([scene.base.point] + [contacts[i].point for i in posed], dtype=float)
+    tangents = first.tangent_angles[[0] + [int(contact_nodes[i]) for i in posed]].astype(float)
+    chords = np.arctan2(*(points[1:] - points[:-1])[:, ::-1].T)
+    starts = []
+    for j, chord in enumerate(chords):  # segment j: from pose j to pose j + 1
+        ends = [e for e in (j, j + 1) if free[e]]
+        for e in ends:
+            trial = tangents.copy()
+            trial[e] = _reflect(float(tangents[e]), float(chord))
+            if np.abs(trial - tangents).max() < SAME_BOW:
+                continue
+            starts.append(initial_angles(_with_pose_tangents(scene, posed, trial), chain, contact_nodes))
+    return starts
+
+
+def _with_pose_tangents(scene: Scene, posed: list[int], tangents: FloatArray) -> Scene:
+    """``scene`` with every pose's tangent prescribed: ``tangents[0]`` at the base, ``tangents[1 + k]`` at contact
+    ``posed[k]``."""
+    contacts = list(scene.contacts)
+    for k, i in enumerate(posed):
+        contacts[i] = replace(contacts[i], angle=float(tangents[1 + k]))
+    return replace(scene, base=replace(scene.base, angle=float(tangents[0])), contacts=tuple(contacts))
+
+
+def lowest_branch(first: Solution, solve_from: Callable[[FloatArray], Solution], started: float) -> Solution:
+    """The lowest-energy successful answer of ``first`` and of :func:`solve_from` on each :func:`mirror_starts`.
+
+    Parameters
+    ----------
+    first : Solution
+        The answer from the default start.
+    solve_from : callable
+        Solves the same scene (bars, scheme, options) from the given bar angles.
+    started : float
+        ``time.perf_counter()`` at the start of the whole solve: the answer's ``solve_time_s`` covers every start.
+
+    Returns
+    -------
+    Solution
+        The kept answer, with ``starts`` the number of starts solved (1 + candidates) and ``message`` saying which
+        start gave it when it was not the first.
+    """
+    candidates = mirror_starts(first)
+    if not candidates:
+        return first
+    best, best_index = first, 0
+    for index, x0 in enumerate(candidates, start=1):
+        sol = solve_from(x0)
+        if sol.success and sol.energy < best.energy - ENERGY_TIE * abs(best.energy):
+            best, best_index = sol, index
+    starts = 1 + len(candidates)
+    message = best.message
+    if best_index:
+        message = (f"{message} (the lowest energy of {starts} starts: mirror start {best_index}; the default start "
+                   f"ended at {first.energy:.6g} N·mm)")
+    return replace(best, starts=starts, message=message, solve_time_s=time.perf_counter() - started)

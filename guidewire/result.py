@@ -236,6 +236,7 @@ class Solution:
             "bar_lengths": np.diff(self.s).tolist(),
             "layout": self.layout, "success": self.success, "status": self.status, "message": self.message,
             "fallback": self.fallback, "energy": self.energy, "iterations": self.iterations, "rounds": self.rounds,
+            "starts": self.starts,
             "solve_time_s": self.solve_time_s, "max_violation": self.max_violation,
             "nodes": self.nodes.tolist(), "s": self.s.tolist(), "bar_angles": self.bar_angles.tolist(),
             "tangent_angles": self.tangent_angles.tolist(), "relative_angles": self.relative_angles.tolist(),

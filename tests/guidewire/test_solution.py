@@ -63,6 +63,7 @@ def test_to_dict_is_json_with_the_required_keys(table2):
     assert data["units"]["length"] == "mm" and data["units"]["force"] == "N"
     assert data["scene"]["contact"][0]["point"] == [30.0, 20.0] and data["scene"]["wire"]["length"] == 100.0
     assert data["bars"] == 100 and data["layout"] == "reduced" and data["rounds"] == 1 and data["fallback"] is None
+    assert data["starts"] == table2.starts == 1
 
 
 def test_iteration_limit_is_a_result_not_an_exception():

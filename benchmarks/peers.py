@@ -418,6 +418,8 @@ def plot(rows: list[dict[str, Any]], solvers: list[str], bars: tuple[int, ...], 
         return
     panels = [("Tables 1, 2, 4 (contacts)", False), ("Fig. 6a, 6b (walls)", True)]
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.2), sharey=True)
+    cycle = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    colour = {name: "k" if name == "ours" else cycle[i % len(cycle)] for i, name in enumerate(solvers)}
     for ax, (title, walls) in zip(axes, panels, strict=True):
         for name in solvers:
             xs, ys = [], []
@@ -430,16 +432,19 @@ def plot(rows: list[dict[str, Any]], solvers: list[str], bars: tuple[int, ...], 
             if not xs:
                 continue
             ours = name.startswith("ours")
-            style = {"lw": 2.6, "color": "k"} if name == "ours" else (
+            style = {"lw": 2.6} if name == "ours" else (
                 {"lw": 0.9, "ls": "--", "alpha": 0.8} if ours else {"lw": 1.8})
-            ax.loglog(xs, ys, marker="o", ms=3.5, label=name, **style)
+            ax.loglog(xs, ys, marker="o", ms=3.5, label=name, color=colour[name], **style)
         ax.set_title(title)
         ax.set_xlabel("bars n")
         ax.set_xticks(list(bars), [str(n) for n in bars])
         ax.minorticks_off()
         ax.grid(True, which="both", alpha=0.3)
     axes[0].set_ylabel("time per solve (s), shifted geometric mean over solved scenes")
-    axes[1].legend(fontsize=7, ncol=2)
+    handles = {}  # one legend for both panels: every solver drawn in either (the structure limit: contacts only)
+    for ax in axes:
+        handles.update(zip(ax.get_legend_handles_labels()[1], ax.get_legend_handles_labels()[0], strict=True))
+    axes[1].legend(list(handles.values()), list(handles), fontsize=7, ncol=2)
     fig.suptitle("Paper scenes, elastica start: time vs n (solved problems only)")
     fig.tight_layout()
     fig.savefig(path, dpi=120)

@@ -36,6 +36,10 @@ def call_user(name: str, fn: Callable[..., Any], x: Array, where: str, *extra: A
         raise
 
 
+#: The (read-only) index set of no rows, shared by every empty :class:`Rows`.
+_NO_ROWS = np.zeros(0, dtype=np.intp)
+_NO_ROWS.setflags(write=False)
+
 
 @dataclass(frozen=True)
 class NonlinearBlock:
@@ -74,6 +78,8 @@ class Rows:
 
     @classmethod
     def from_bounds(cls, lb: Array, ub: Array) -> Rows:
+        if lb.size == 0:
+            return cls(lb=lb, ub=ub, eq=_NO_ROWS, lower=_NO_ROWS, upper=_NO_ROWS)
         is_eq = lb == ub
         return cls(
             lb=lb,

@@ -8,7 +8,6 @@ to catch wrong shapes early; it also records the structure the QP backend choice
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -246,7 +245,8 @@ def build_problem(
         hess_f = (lambda z: hess(z, *args)) if args else hess
     else:
         hess_f = None
-    problem = Problem(
+    sparse_rows = _check_shapes(f, grad, blocks, xs)
+    return Problem(
         fun=f,
         grad=grad,
         x0=xs,
@@ -261,9 +261,8 @@ def build_problem(
         hess=hess_f,
         differences=differences,
         x0_clipped=clipped,
+        sparse_jacobians=sparse_rows and all(sp.issparse(a) for a in lin_A),
     )
-    sparse_rows = _check_shapes(problem, xs)
-    return replace(problem, sparse_jacobians=sparse_rows and all(sp.issparse(a) for a in lin_A))
 
 
 class ValueAndGradient:
@@ -292,20 +291,22 @@ class ValueAndGradient:
         return self.g
 
 
-def _check_shapes(problem: Problem, x: Array) -> bool:
-    """Evaluate once at the (projected) start to catch non-scalar objectives and wrong Jacobian shapes early.
+def _check_shapes(fun: Callable[[Array], Any], grad: Callable[[Array], Any] | None,
+                  blocks: list[NonlinearBlock], x: Array) -> bool:
+    """Evaluate the objective, its gradient and the constraint Jacobians once at the (clipped) start ``x`` to catch
+    non-scalar objectives and wrong shapes early.
 
     Returns whether every nonlinear constraint's Jacobian there is a scipy.sparse matrix."""
-    n = problem.n
-    f = np.asarray(call_user("fun", problem.fun, x, AT_START))
+    n = x.size
+    f = np.asarray(call_user("fun", fun, x, AT_START))
     if f.size != 1:
         raise ValueError(f"fun returned an array of shape {f.shape}; it must return a scalar (the objective value).")
-    if problem.grad is not None:
-        g = np.asarray(call_user("jac", problem.grad, x, AT_START), dtype=float)
+    if grad is not None:
+        g = np.asarray(call_user("jac", grad, x, AT_START), dtype=float)
         if g.shape != (n,):
             raise ValueError(f"jac returned shape {g.shape}; expected ({n},): the gradient of fun.")
     sparse = True
-    for block in problem.blocks:
+    for block in blocks:
         if block.jac is None:  # finite differences: dense
             sparse = False
         else:

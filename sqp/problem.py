@@ -36,6 +36,10 @@ def call_user(name: str, fn: Callable[..., Any], x: Array, where: str, *extra: A
         raise
 
 
+#: The (read-only) index set of no rows, shared by every empty :class:`Rows`.
+_NO_ROWS = np.zeros(0, dtype=np.intp)
+_NO_ROWS.setflags(write=False)
+
 
 @dataclass(frozen=True)
 class NonlinearBlock:
@@ -74,6 +78,8 @@ class Rows:
 
     @classmethod
     def from_bounds(cls, lb: Array, ub: Array) -> Rows:
+        if lb.size == 0:
+            return cls(lb=lb, ub=ub, eq=_NO_ROWS, lower=_NO_ROWS, upper=_NO_ROWS)
         is_eq = lb == ub
         return cls(
             lb=lb,
@@ -200,6 +206,8 @@ class Problem:
         ours on a lower side, and ours negated on an upper side; a row with both sides finite appears twice, its
         multiplier on the side its sign belongs to and 0 on the other.
         """
+        if not self.linear_sizes and all(b.dict_style for b in self.blocks):
+            return self._slsqp_rows_of_dicts()
         offsets = np.cumsum([0] + [lb.size for lb, _ in self.constraint_sides()])
         placed: list[tuple[str, Array, Array, NDArray[np.bool_]]] = []
         appended: list[tuple[str, Array, Array, NDArray[np.bool_]]] = []
@@ -223,6 +231,17 @@ class Problem:
             return np.zeros(0, dtype=np.intp), np.zeros(0), np.zeros(0, dtype=bool)
         return (np.concatenate([p[1] for p in parts]).astype(np.intp), np.concatenate([p[2] for p in parts]),
                 np.concatenate([p[3] for p in parts]))
+
+    def _slsqp_rows_of_dicts(self) -> tuple[NDArray[np.intp], Array, NDArray[np.bool_]]:
+        """:attr:`slsqp_rows` when every constraint is an SLSQP dict (``eq``: ``lb = ub = 0``, ``ineq``: ``lb = 0,
+        ub = inf``): the rows of the ``eq`` dicts, then those of the ``ineq`` dicts, each in the order given, with
+        sign +1 and none two-sided."""
+        offsets = np.cumsum([0] + [b.size for b in self.blocks])
+        ranges = [np.arange(offsets[k], offsets[k + 1]) for k in range(len(self.blocks))]
+        is_eq = [bool(b.size) and bool(np.isfinite(b.ub[0])) for b in self.blocks]
+        index = np.concatenate([r for r, e in zip(ranges, is_eq, strict=True) if e]
+                               + [r for r, e in zip(ranges, is_eq, strict=True) if not e] + [np.zeros(0, np.intp)])
+        return index.astype(np.intp), np.ones(index.size), np.zeros(index.size, dtype=bool)
 
     def slsqp_multipliers(self, per_constraint: list[Array]) -> Array:
         """The multipliers as scipy's SLSQP returns them (:attr:`slsqp_rows`) from one array per constraint."""

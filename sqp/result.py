@@ -166,11 +166,17 @@ def build_result(
     lam_lin = qp.lam_lin if qp is not None else np.zeros(problem.linear.lb.size)
     z = qp.z if qp is not None else np.zeros(n)
     g = der.g if der is not None else np.full(n, np.nan)
+    finite = bool(np.isfinite(c).all())
+    # (a Point carries max_violation at its x already: the same number, not computed again)
+    if pt is not None:
+        violation = pt.maxcv
+    else:
+        violation = max_violation(problem, xx, c, np.asarray(r).ravel()) if finite else np.inf
     if der is not None:
-        kkt = kkt_residuals(problem, xx, g, c, der.J, r, lam_nl, lam_lin, z)
+        kkt = kkt_residuals(problem, xx, g, c, der.J, r, lam_nl, lam_lin, z, feasibility=violation)
     else:
         kkt = KKTResiduals.unknown()
-    maxcv = max_violation(problem, xx, c, np.asarray(r).ravel()) if np.all(np.isfinite(c)) else np.inf
+    maxcv = violation if finite else np.inf
     per_constraint = problem.split_multipliers(lam_lin, lam_nl)
     message = status.message
     if status is Status.MAX_ITER:

@@ -137,7 +137,7 @@ def _newton(c: FloatArray, lift: FloatArray, blocks: FloatArray, target: FloatAr
         c[:, 0] += s1 * scale
         c[:, 1] += s2 * scale
         miss = np.hypot(rx, ry)
-        if size.max() <= 1e-13:
+        if not size.size or size.max() <= 1e-13:
             break
     return miss
 

@@ -133,7 +133,6 @@ class _Curve:
         self.s = np.concatenate(([0.0], np.cumsum(half * (speed @ weights))))
         self.length = float(self.s[-1])
         self._u_of_s = CubicSpline(self.s, self.u)
-        self._s_of_u = CubicSpline(self.u, self.s)
 
     def segment(self, u: FloatArray) -> NDArray[np.intp]:
         return np.clip(np.searchsorted(self.breaks, u, side="right") - 1, 0, len(self.breaks) - 2)
@@ -151,9 +150,6 @@ class _Curve:
 
     def u_of_s(self, s: FloatArray) -> FloatArray:
         return np.asarray(self._u_of_s(np.clip(s, 0.0, self.length)), dtype=float)
-
-    def s_of_u(self, u: FloatArray) -> FloatArray:
-        return np.asarray(self._s_of_u(np.clip(u, self.lo, self.hi)), dtype=float)
 
 
 class _Tubes:

@@ -310,13 +310,25 @@ def _wall_gaps(scene: Scene, start: FloatArray, angle: float, kappa: FloatArray,
     lo, width = 0, (FREE_CHUNK_NODES if lazy else m)
     while lo < m and rows.size:
         part = slice(lo, lo + width)
-        phi = angle + kappa[rows, None] * s_mid[None, part]
-        steps = lengths[None, part, None] * np.stack((np.cos(phi), np.sin(phi)), axis=-1)
-        sums = np.cumsum(np.concatenate((last[rows, None, :], steps), axis=1), axis=1)[:, 1:]
-        nodes = start + sums
+        # x and y apart, in place (no (rows, nodes, 2) temporaries): per element the arithmetic of
+        # start + cumsum(l (cos φ, sin φ)) continued from ``last``, and offset − n̂ · p
+        phi = kappa[rows, None] * s_mid[None, part]
+        phi += angle
+        x = np.cos(phi)
+        y = np.sin(phi, out=phi)
+        x *= lengths[None, part]
+        y *= lengths[None, part]
+        x[:, 0] += last[rows, 0]
+        y[:, 0] += last[rows, 1]
+        np.cumsum(x, axis=1, out=x)
+        np.cumsum(y, axis=1, out=y)
+        last[rows, 0], last[rows, 1] = x[:, -1], y[:, -1]
+        x += start[0]
+        y += start[1]
         for (nx, ny), offset in walls:
-            gap[rows] = np.minimum(gap[rows], np.min(offset - (nodes[..., 0] * nx + nodes[..., 1] * ny), axis=1))
-        last[rows] = sums[:, -1]
+            reach = x * nx
+            reach += y * ny
+            gap[rows] = np.minimum(gap[rows], offset - reach.max(axis=1))  # (min of offset − reach, rounding kept)
         lo, width = lo + width, 2 * width
         if lazy:
             rows = rows[gap[rows] >= 0.0]

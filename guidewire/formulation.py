@@ -163,6 +163,14 @@ class Formulation:
                 parts.append(np.abs(c) if con["type"] == "eq" else np.maximum(-c, 0.0))
         return np.concatenate(parts)
 
+    def nodes_at(self, phi: FloatArray) -> FloatArray:
+        """The chain's nodes at the bar angles ``phi``, shape (n + 1, 2): those the program last evaluated when they
+        are at ``phi`` (the same numbers), else computed."""
+        point = getattr(self.layout, "point", None)
+        if point is not None and point.phi is not None and np.array_equal(point.phi, phi):
+            return point.nodes.copy()
+        return self.model.chain.nodes(phi)
+
     def max_violation(self, phi: FloatArray, nodes: FloatArray | None = None) -> float:
         """Largest violation (mm or rad) of any block at the bar angles ``phi`` — walls at every node, not only
         their working set. ``nodes``: the chain's nodes at ``phi`` when the caller has them."""

@@ -139,7 +139,7 @@ def _newton(c: FloatArray, lift: FloatArray, blocks: FloatArray, target: FloatAr
     Each step is a handful of whole-array operations (the 2 × 2 solves of all rows by Cramer's rule as one product
     and one matrix product, :data:`_CRAMER`): per row the same arithmetic as writing the rule out term by term."""
     offset = np.array([target[0], 0.0, 0.0, target[1], 0.0, 0.0])
-    miss, settled = np.full(c.shape[0], np.inf), False
+    means, settled = None, False
     for _ in range(steps):
         means = np.cos(c @ lift) @ blocks
         means -= offset  # the residual in columns 0 and 3
@@ -148,11 +148,10 @@ def _newton(c: FloatArray, lift: FloatArray, blocks: FloatArray, target: FloatAr
         step = cramer[:, 1:] * (1.0 / np.where(np.abs(det) > 1e-12, det, np.inf))[:, None]  # singular: no step
         size = np.abs(step).max(axis=1)
         c[:, :2] += step * (1.0 / np.maximum(size, 1.0))[:, None]
-        miss = np.hypot(means[:, 0], means[:, 3])
         if not size.size or size.max() <= 1e-13:
             settled = True
             break
-    return miss, settled
+    return (np.full(c.shape[0], np.inf) if means is None else np.hypot(means[:, 0], means[:, 3])), settled
 
 
 #: The grid of starts ``[c₁, c₂, 1]`` of :func:`_segment_curves` (read-only; each call copies it).

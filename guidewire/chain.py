@@ -53,6 +53,8 @@ BREAK_ROUNDING = 1e-12
 
 def piece_count(length: float, contact_s: Sequence[float], breakpoints: Sequence[float] = ()) -> int:
     """Number of pieces the contacts and breakpoints cut a wire of ``length`` into (the fewest bars it needs)."""
+    if len(breakpoints) == 0:  # the distinct ends up to L among the contacts and L (what _piece_ends counts)
+        return len({float(s) for s in contact_s if s <= length} | {float(length)})
     return int(_piece_ends(length, np.asarray(contact_s, dtype=float), breakpoints).size)
 
 

@@ -53,6 +53,8 @@ BREAK_ROUNDING = 1e-12
 
 def piece_count(length: float, contact_s: Sequence[float], breakpoints: Sequence[float] = ()) -> int:
     """Number of pieces the contacts and breakpoints cut a wire of ``length`` into (the fewest bars it needs)."""
+    if len(breakpoints) == 0:  # the distinct ends up to L among the contacts and L (what _piece_ends counts)
+        return len({float(s) for s in contact_s if s <= length} | {float(length)})
     return int(_piece_ends(length, np.asarray(contact_s, dtype=float), breakpoints).size)
 
 
@@ -205,8 +207,18 @@ class BarChain:
 
     def nodes(self, phi: FloatArray) -> FloatArray:
         """Node positions, shape (n + 1, 2), base first (Eqs. 20–21)."""
-        steps = np.cumsum(self.bar_vectors(phi), axis=0)
-        return np.vstack((self.base_point, self.base_point + steps))
+        return self.nodes_from_steps(self.lengths * np.cos(phi), self.lengths * np.sin(phi))
+
+    def nodes_from_steps(self, dx: FloatArray, dy: FloatArray) -> FloatArray:
+        """Node positions from the bar vectors ``l_j (cos φ_j, sin φ_j)`` given as their components ``dx``, ``dy``
+        (shape (n,) each), shape (n + 1, 2): the running sum from the base, written straight into one array."""
+        out = np.empty((dx.size + 1, 2))
+        out[0] = self.base_point
+        steps = out[1:]
+        steps[:, 0], steps[:, 1] = dx, dy
+        np.cumsum(steps, axis=0, out=steps)
+        steps += self.base_point
+        return out
 
     def node_jacobian(self, phi: FloatArray, node_index: IntArray) -> FloatArray:
         """``∂p_k/∂φ`` for the nodes ``k`` in ``node_index``, shape (len(node_index), 2, n).
@@ -218,7 +230,8 @@ class BarChain:
         mask = np.arange(self.n_bars)[None, :] < node_index[:, None]  # (m, n): bar j+1 ≤ node k
         return mask[:, None, :] * d[None, :, :]
 
-    def node_hessian_diagonal(self, phi: FloatArray, node_index: IntArray, weights: FloatArray) -> FloatArray:
+    def node_hessian_diagonal(self, phi: FloatArray, node_index: IntArray, weights: FloatArray,
+                              trig: tuple[FloatArray, FloatArray] | None = None) -> FloatArray:
         """``Σ_m w_m · ∂²p_{k_m}/∂φ²``, which is diagonal: the diagonal, shape (n,).
 
         ``∂²p_k/∂φ_j² = −l_j (cos φ_j, sin φ_j)`` for ``j ≤ k`` (and no mixed terms), so the weighted sum over nodes is
@@ -231,11 +244,15 @@ class BarChain:
             Nodes ``k_m`` (1..n).
         weights : ndarray, shape (m, 2)
             ``w_m`` (a multiplier per coordinate).
+        trig : (ndarray, ndarray), optional
+            ``(cos φ, sin φ)`` when the caller has them.
         """
-        acc = np.zeros((self.n_bars + 1, 2))
-        np.add.at(acc, np.asarray(node_index, dtype=int), np.asarray(weights, dtype=float).reshape(-1, 2))
-        suffix = np.cumsum(acc[::-1], axis=0)[::-1][1:]  # row j-1: Σ over nodes ≥ j
-        return -self.lengths * (np.cos(phi) * suffix[:, 0] + np.sin(phi) * suffix[:, 1])
+        index, w = np.asarray(node_index, dtype=np.intp), np.asarray(weights, dtype=float).reshape(-1, 2)
+        size = self.n_bars + 1  # per coordinate, the sum over the nodes ≥ j of bar j's rows (a reversed running sum)
+        sx = np.cumsum(np.bincount(index, w[:, 0], minlength=size)[::-1])[::-1][1:]
+        sy = np.cumsum(np.bincount(index, w[:, 1], minlength=size)[::-1])[::-1][1:]
+        cos, sin = (np.cos(phi), np.sin(phi)) if trig is None else trig
+        return -self.lengths * (cos * sx + sin * sy)
 
     def angles_from_nodes(self, nodes: FloatArray) -> FloatArray:
         """Bar angles of a polyline with ``n + 1`` points, unwrapped (continuous), shape (n,)."""

@@ -33,7 +33,7 @@ def crossing_bars(nodes: FloatArray, tolerance: float = 1e-9) -> tuple[int, int]
     scale = tolerance * max(float(lengths.max()), 1e-300)
     if _monotone(d, 2.0 * scale):
         return None
-    ii, jj = _candidate_pairs(a, b, max(float(lengths.max()), 1e-12) + 2.0 * scale)
+    ii, jj = _candidate_pairs(a, b, 2.0 * scale)
     if ii.size == 0:
         return None
     hit = _segments_cross(a[ii], b[ii], a[jj], b[jj], scale)
@@ -55,35 +55,54 @@ def _monotone(d: FloatArray, margin: float) -> bool:
     return bool(np.min(d @ (u / norm)) > margin)
 
 
-def _candidate_pairs(a: FloatArray, b: FloatArray, cell: float) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
-    """Pairs ``i < j − 1`` of bars that share a cell of a uniform grid of spacing ``cell`` (≥ every bar length, so a
-    bar's bounding box spans at most 2 × 2 cells): O(n) expected instead of all n² pairs."""
+CHUNK_BARS = 8
+"""Bars per chunk of :func:`_candidate_pairs` (whose boxes are compared before the bars')."""
+
+
+def _candidate_pairs(a: FloatArray, b: FloatArray, margin: float) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """Pairs ``i < j − 1`` of bars that may cross or touch: those whose bounding boxes, grown by ``margin`` (≥ the
+    touching distance), overlap, except within a run of bars that advances along one direction (:func:`_monotone`).
+
+    The bars are taken in chunks of :data:`CHUNK_BARS` consecutive ones, whose boxes are compared first; a chunk and
+    its successor, when the 2 chunks' bars pass the monotone test, need no pair between or within them; the bars of
+    the other overlapping chunks are compared pairwise. So a wire that only comes back near itself in a few places
+    costs O(n), and a pair is never missed (the boxes contain every point within ``margin`` of a bar)."""
     n = a.shape[0]
-    lo = np.floor(np.minimum(a, b) / cell).astype(np.int64)
-    hi = np.floor(np.maximum(a, b) / cell).astype(np.int64)
-    cx = np.stack((lo[:, 0], hi[:, 0], lo[:, 0], hi[:, 0]), axis=1)
-    cy = np.stack((lo[:, 1], lo[:, 1], hi[:, 1], hi[:, 1]), axis=1)
-    bars = np.repeat(np.arange(n), 4)
-    # one integer key per (cell, bar), sorted: equal cells are runs, and within a run the bars increase
-    x, y = cx.ravel(), cy.ravel()
-    x, y = x - x.min(), y - y.min()
-    key = (x * (int(y.max()) + 1) + y) * n + bars
-    key = np.unique(key)  # sorted, a bar once per cell
-    cell_of, bar = key // n, key % n
-    same_cell_run = np.r_[True, cell_of[1:] != cell_of[:-1]]
-    group = np.cumsum(same_cell_run) - 1
-    first, out_i, out_j = np.flatnonzero(same_cell_run), [], []
-    size = np.diff(np.r_[first, bar.size])
-    for offset in range(1, int(size.max())):
-        k = np.flatnonzero(group[offset:] == group[:-offset])
-        out_i.append(bar[k])
-        out_j.append(bar[k + offset])
-    if not out_i:
+    lo, hi = np.minimum(a, b) - margin, np.maximum(a, b) + margin
+    first = np.arange(0, n, CHUNK_BARS)
+    chunk_lo, chunk_hi = np.minimum.reduceat(lo, first, axis=0), np.maximum.reduceat(hi, first, axis=0)
+    overlap = ((chunk_lo[:, None, :] <= chunk_hi[None, :, :]) & (chunk_lo[None, :, :] <= chunk_hi[:, None, :])).all(2)
+    overlap = np.triu(overlap)  # chunk pairs p ≤ q (a chunk with itself included)
+    advancing = _monotone_windows(b - a, first, margin)
+    index = np.arange(first.size)
+    overlap[index[advancing], index[advancing]] = False
+    pair = advancing[:-1]
+    overlap[index[:-1][pair], index[1:][pair]] = False
+    p, q = np.nonzero(overlap)
+    if not p.size:
         return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
-    i, j = np.concatenate(out_i), np.concatenate(out_j)
-    keep = j >= i + 2
-    pairs = np.unique(i[keep].astype(np.int64) * n + j[keep])
-    return pairs // n, pairs % n
+    offset = np.arange(CHUNK_BARS)
+    i = np.broadcast_to(first[p][:, None, None] + offset[None, :, None], (p.size, CHUNK_BARS, CHUNK_BARS)).ravel()
+    j = np.broadcast_to(first[q][:, None, None] + offset[None, None, :], (p.size, CHUNK_BARS, CHUNK_BARS)).ravel()
+    keep = (j >= i + 2) & (j < n)
+    i, j = i[keep], j[keep]
+    keep = (lo[i, 0] <= hi[j, 0]) & (lo[j, 0] <= hi[i, 0]) & (lo[i, 1] <= hi[j, 1]) & (lo[j, 1] <= hi[i, 1])
+    return i[keep], j[keep]
+
+
+def _monotone_windows(d: FloatArray, first: NDArray[np.intp], margin: float) -> NDArray[np.bool_]:
+    """Per chunk starting at ``first``: whether the bars of it and the next chunk (or of it alone, the last) pass
+    :func:`_monotone`'s test (every bar advances by more than ``margin`` along the bisector of the window's first and
+    last bars), so that no two of them can cross or touch."""
+    n = d.shape[0]
+    bars = np.minimum(first[:, None] + np.arange(2 * CHUNK_BARS)[None, :], n - 1)  # (W, 2K), the tail repeated
+    lengths = np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-300)
+    unit = d / lengths[:, None]
+    u = unit[bars[:, 0]] + unit[bars[:, -1]]
+    norm = np.hypot(u[:, 0], u[:, 1])
+    u = u / np.maximum(norm, 1e-300)[:, None]
+    advance = d[bars, 0] * u[:, :1] + d[bars, 1] * u[:, 1:]
+    return (norm >= 1e-12) & (advance.min(axis=1) > margin)
 
 
 def _cross(u: FloatArray, v: FloatArray) -> FloatArray:
@@ -98,13 +117,17 @@ def _point_segment_distance(p: FloatArray, a: FloatArray, b: FloatArray) -> Floa
 
 def _segments_cross(a: FloatArray, b: FloatArray, c: FloatArray, d: FloatArray, eps: float) -> NDArray[np.bool_]:
     """Whether segment ``ab`` meets segment ``cd`` (row-wise): a proper crossing (each segment's ends strictly on
-    both sides of the other's line, by more than ``eps`` mm), or an end point within ``eps`` of the other segment."""
-    r, s = b - a, d - c
-    la, lc = np.hypot(*r.T), np.hypot(*s.T)
-    d1, d2 = _cross(r, c - a) / la, _cross(r, d - a) / la  # signed distances of c, d from line ab
-    d3, d4 = _cross(s, a - c) / lc, _cross(s, b - c) / lc  # and of a, b from line cd
-    clear = (np.minimum(np.minimum(np.abs(d1), np.abs(d2)), np.minimum(np.abs(d3), np.abs(d4))) > eps)
-    proper = clear & (np.sign(d1) != np.sign(d2)) & (np.sign(d3) != np.sign(d4))
-    touching = np.minimum(np.minimum(_point_segment_distance(c, a, b), _point_segment_distance(d, a, b)),
-                          np.minimum(_point_segment_distance(a, c, d), _point_segment_distance(b, c, d))) <= eps
+    both sides of the other's line, by more than ``eps`` mm), or an end point within ``eps`` of the other segment.
+
+    The four end points' tests (``c``, ``d`` against ``ab``; ``a``, ``b`` against ``cd``) run stacked, as one array
+    of 4m rows."""
+    m = a.shape[0]
+    point = np.concatenate((c, d, a, b))
+    start, end = np.concatenate((a, a, c, c)), np.concatenate((b, b, d, d))
+    r = end - start
+    side = (_cross(r, point - start) / np.hypot(r[:, 0], r[:, 1])).reshape(4, m)  # signed distances from the lines
+    clear = np.abs(side).min(axis=0) > eps
+    sign = np.sign(side)
+    proper = clear & (sign[0] != sign[1]) & (sign[2] != sign[3])
+    touching = _point_segment_distance(point, start, end).reshape(4, m).min(axis=0) <= eps
     return proper | touching

@@ -41,6 +41,7 @@ Sections (variable ``EI``) and rest curvature
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
@@ -118,8 +119,7 @@ class EnergyTerms:
         D = self.matrix
         n = D.shape[1]
         counts = np.diff(D.indptr)
-        term = np.repeat(np.arange(counts.size), counts)
-        cols, data = D.indices.astype(np.intp), D.data
+        term, cols, data = self._coo
         w2 = 2.0 * self.weight
         diag = np.bincount(cols, w2[term] * data * data, minlength=n)
         touched = np.bincount(cols, minlength=n) > 0
@@ -131,10 +131,13 @@ class EnergyTerms:
         off = np.bincount(left, w2[pair] * data[first] * data[first + 1], minlength=max(n - 1, 0))
         coupled = np.bincount(left, minlength=max(n - 1, 0)) > 0
         # column j holds rows j-1 (off[j-1]), j (diag[j]), j+1 (off[j]), each where some term touches it
-        keep = np.zeros((n, 3), dtype=bool)
-        keep[1:, 0], keep[:, 1], keep[:-1, 2] = coupled, touched, coupled
         values = np.zeros((n, 3))
         values[1:, 0], values[:, 1], values[:-1, 2] = off, diag, off
+        if n > 1 and touched.all() and coupled.all():  # every entry of the band: its pattern is the same at every n
+            rows, indptr = _full_band(n)  # (copies: the matrix owns its arrays, as scipy's operations expect)
+            return sp.csc_matrix((values.ravel()[1:-1], rows.copy(), indptr.copy()), shape=(n, n))
+        keep = np.zeros((n, 3), dtype=bool)
+        keep[1:, 0], keep[:, 1], keep[:-1, 2] = coupled, touched, coupled
         rows = np.arange(n)[:, None] + np.array([-1, 0, 1])
         indptr = np.concatenate(([0], np.cumsum(keep.sum(axis=1))))
         return sp.csc_matrix((values[keep], rows[keep].astype(np.int32), indptr.astype(np.int32)), shape=(n, n))
@@ -155,6 +158,16 @@ class EnergyTerms:
         offsets = np.zeros(n_nodes)
         np.add.at(offsets, self.node, self.offset)
         return sp.csr_matrix(pick @ self.matrix), offsets
+
+
+@functools.lru_cache(maxsize=8)
+def _full_band(n: int) -> tuple[NDArray[np.int32], NDArray[np.int32]]:
+    """Row indices and column pointers (read-only) of a full tridiagonal (n, n) CSC matrix, n ≥ 2."""
+    rows = (np.arange(n)[:, None] + np.array([-1, 0, 1])).ravel()[1:-1].astype(np.int32)
+    indptr = np.concatenate(([0], np.arange(2, 3 * n - 1, 3), [3 * n - 2])).astype(np.int32)
+    for array in (rows, indptr):
+        array.flags.writeable = False
+    return rows, indptr
 
 
 def _general_hessian(D: sp.csr_matrix, weight: FloatArray) -> sp.csc_matrix:
@@ -198,21 +211,27 @@ def bending_terms(
     theta = np.asarray(angles, dtype=float)
     split = k_angle < n if half else np.zeros(k_angle.size, dtype=bool)  # interior nodes made of two half joints
     tip = k_angle == n if half else np.zeros(k_angle.size, dtype=bool)
-    k_plain = np.setdiff1d(np.arange(1, n), k_angle[split])
     k_split = k_angle[split]
-    # Each block: (left bar column or -1, right bar column or -1, offset r, dual length w, node).
-    blocks = [
-        (k_plain - 1, k_plain, np.zeros(k_plain.size), 0.5 * (lengths[k_plain - 1] + lengths[k_plain]), k_plain),
-        (k_split - 1, np.full(k_split.size, -1), -theta[split], lengths[k_split - 1] / 2.0, k_split),
-        (np.full(k_split.size, -1), k_split, theta[split], lengths[k_split] / 2.0, k_split),
-        (k_angle[tip] - 1, np.full(int(tip.sum()), -1), -theta[tip], lengths[k_angle[tip] - 1] / 2.0, k_angle[tip]),
-    ]
+    plain = np.ones(n, dtype=bool)  # nodes 1..n−1 that are one joint between two bars
+    plain[0] = False
+    plain[k_split] = False
+    k_plain = np.flatnonzero(plain)
+    # Each block: (left bar column or -1, right bar column or -1, offset r, dual length w, node); the empty ones left
+    # out.
+    blocks = [(k_plain - 1, k_plain, np.zeros(k_plain.size), 0.5 * (lengths[k_plain - 1] + lengths[k_plain]), k_plain)]
+    if k_split.size:
+        blocks += [(k_split - 1, np.full(k_split.size, -1), -theta[split], lengths[k_split - 1] / 2.0, k_split),
+                   (np.full(k_split.size, -1), k_split, theta[split], lengths[k_split] / 2.0, k_split)]
+    if tip.any():
+        k_tip = k_angle[tip]
+        blocks.append((k_tip - 1, np.full(k_tip.size, -1), -theta[tip], lengths[k_tip - 1] / 2.0, k_tip))
     if base_angle is not None:
         dual = lengths[:1] / 2.0 if half else lengths[:1]
         blocks.insert(0, (np.array([-1]), np.array([0]), np.array([float(base_angle)]), dual, np.array([0])))
     left, right, offset, dual, node = (np.concatenate(parts) for parts in zip(*blocks, strict=True))
-    order = np.lexsort((np.arange(node.size), node))  # by node; at a split node the left half first
-    left, right, offset, dual, node = left[order], right[order], offset[order], dual[order], node[order]
+    if k_split.size or tip.any():  # (else already by node: the base clamp, then the joints in order)
+        order = np.lexsort((np.arange(node.size), node))  # by node; at a split node the left half first
+        left, right, offset, dual, node = left[order], right[order], offset[order], dual[order], node[order]
     # D straight in CSR: a row holds its left bar (−1) before its right one (+1), the order a COO assembly gives
     has = np.column_stack((left >= 0, right >= 0))
     indptr = np.concatenate(([0], np.cumsum(has.sum(axis=1)))).astype(np.int32)

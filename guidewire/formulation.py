@@ -9,26 +9,24 @@ multiplier signs (:mod:`guidewire.blocks.base`), so a solution reads the same wh
 Objective: the bending energy of :mod:`guidewire.energy` (N·mm), quadratic in ``φ``; its exact constant Hessian is
 passed as ``hess0`` and returned by :meth:`Formulation.hess` (sparse: :mod:`sqp` decides how to store it).
 
-In the reduced layout a node-row block is an SLSQP dict (``eq`` when every row is an equality, ``ineq`` ``d·p − lb ≥ 0``
-when only lower bounds are finite, else a ``NonlinearConstraint``) with analytic ``jac`` (dense: a node depends on
-every earlier angle) and ``hess(φ, v)`` (diagonal); an angle-row block is a ``LinearConstraint``. No variable bounds.
+In the reduced layout (:mod:`guidewire.reduced`) a node-row block is an SLSQP dict or a ``NonlinearConstraint`` with
+analytic ``jac`` and ``hess``; an angle-row block is a ``LinearConstraint``. No variable bounds.
 """
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol
 
 import numpy as np
-import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.optimize import LinearConstraint, NonlinearConstraint
 
 from .blocks import BLOCK_TYPES, AngleRows, Block, NodeRows
 from .blocks.base import row_violation
 from .model import Model, ModelReuse, build_model
+from .reduced import ReducedLayout
 from .scene import SCHEMES, Scene
 
 FloatArray = NDArray[np.float64]
@@ -58,126 +56,6 @@ class Layout(Protocol):
     def block_multipliers(self, raw: Sequence[Any]) -> list[FloatArray]: ...
     def raw_multipliers(self, blocks: Sequence[Block], per_block: Sequence[FloatArray]) -> list[FloatArray]: ...
     def answer(self, blocks: Sequence[Block], x: FloatArray, per_block: Sequence[FloatArray]) -> FloatArray: ...
-
-
-def _diagonal(values: FloatArray) -> sp.csc_matrix:
-    """A diagonal CSC matrix, built directly (``scipy.sparse.diags`` costs ~1 ms a call)."""
-    n = values.size
-    index = np.arange(n + 1, dtype=np.int32)
-    return sp.csc_matrix((values, index[:-1], index), shape=(n, n))
-
-
-def nonlinear_rows(value: Any, jac: Any, hess: Any, lb: FloatArray, ub: FloatArray) -> Any:
-    """Rows ``lb ≤ value(x) ≤ ub`` for :func:`sqp.minimize`, in the sign convention of :mod:`guidewire.blocks.base`
-    (λ ≥ 0 at an active lower bound): an SLSQP ``eq`` dict when every row is an equality, an ``ineq`` dict
-    ``value − lb ≥ 0`` when only lower bounds are finite, else a ``NonlinearConstraint``."""
-    if np.array_equal(lb, ub):
-        return {"type": "eq", "fun": lambda x: value(x) - lb, "jac": jac, "hess": hess}
-    if np.all(np.isposinf(ub)):
-        return {"type": "ineq", "fun": lambda x: value(x) - lb, "jac": jac, "hess": hess}
-    return NonlinearConstraint(value, lb, ub, jac=jac, hess=hess)
-
-
-def _curvature_term(chain: Any, phi: FloatArray, nodes: IntArray, weighted: FloatArray) -> FloatArray:
-    """``Σ_r (∂p_{k_r}/∂φ)ᵀ W_r (∂p_{k_r}/∂φ)`` for 2 × 2 matrices ``W_r``, dense (n, n): with
-    ``e_j = l_j (−sin φ_j, cos φ_j)`` and ``S_j = Σ_{k_r ≥ j} W_r`` (a suffix sum), entry ``(i, j)`` is
-    ``e_iᵀ S_{max(i, j)} e_j`` — O(n²), for the quadratic rows of a curved boundary."""
-    n = chain.n_bars
-    acc = np.zeros((n + 1, 2, 2))
-    np.add.at(acc, nodes, weighted)
-    suffix = np.cumsum(acc[::-1], axis=0)[::-1][1:]  # row j (bar j+1): rows at nodes ≥ j+1
-    e = chain.lengths[:, None] * np.column_stack((-np.sin(phi), np.cos(phi)))
-    w = np.einsum("jab,jb->ja", suffix, e)  # S_j e_j, (n, 2): O(n)
-    out = e @ w.T  # e_iᵀ S_j e_j, one (n × 2)(2 × n) product: right for j ≥ i
-    np.copyto(out, out.T.copy(), where=_below_diagonal(n))  # mirrored below (3.6x faster than np.where at n = 250)
-    return out
-
-
-@functools.lru_cache(maxsize=8)
-def _below_diagonal(n: int) -> NDArray[np.bool_]:
-    """The (n, n) mask of the entries below the diagonal, read-only (kept: a sequence solves at a few sizes)."""
-    index = np.arange(n)
-    mask = index[:, None] > index[None, :]
-    mask.flags.writeable = False
-    return mask
-
-
-@dataclass(frozen=True)
-class ReducedLayout:
-    """The paper's program: the bar angles are the variables; node rows are nonlinear and dense."""
-
-    model: Model
-    name: str = "reduced"
-
-    @property
-    def size(self) -> int:
-        return self.model.n
-
-    @property
-    def hess0(self) -> sp.csc_matrix:
-        return self.model.hess0
-
-    def fun(self, x: FloatArray) -> float:
-        return self.model.energy.value(x)
-
-    def jac(self, x: FloatArray) -> FloatArray:
-        return self.model.energy.gradient(x)
-
-    def angles(self, x: FloatArray) -> FloatArray:
-        return np.asarray(x, dtype=float)
-
-    def nodes(self, x: FloatArray) -> FloatArray:
-        return self.model.chain.nodes(np.asarray(x, dtype=float))
-
-    def own_constraints(self) -> list[Any]:
-        return []
-
-    def node_rows(self, rows: NodeRows) -> Any:
-        chain = self.model.chain
-        k = rows.nodes
-        mask = np.arange(chain.n_bars)[None, :] < k[:, None]  # bar j+1 ≤ node k
-        last: list[Any] = [(None, None)]  # (a copy of φ, its nodes): the value, Jacobian and Hessian share a point
-
-        def nodes(phi: FloatArray) -> FloatArray:
-            seen, points = last[0]
-            if seen is None or not np.array_equal(seen, phi):
-                points = chain.nodes(phi)
-                last[0] = (np.array(phi, dtype=float), points)
-            return points
-
-        def value(phi: FloatArray) -> FloatArray:
-            return rows.values(nodes(phi))
-
-        def jac(phi: FloatArray) -> FloatArray:
-            d = rows.gradients(nodes(phi)) if not rows.linear else rows.directions
-            sin, cos = chain.lengths * np.sin(phi), chain.lengths * np.cos(phi)
-            return mask * (d[:, 0:1] * -sin[None, :] + d[:, 1:2] * cos[None, :])
-
-        def hess(phi: FloatArray, v: FloatArray) -> Any:
-            v = np.asarray(v, dtype=float)
-            if rows.linear:
-                return _diagonal(chain.node_hessian_diagonal(phi, k, v[:, None] * rows.directions))
-            d = rows.gradients(nodes(phi))
-            out = _curvature_term(chain, phi, k, v[:, None, None] * rows.hessians)
-            out[np.diag_indices_from(out)] += chain.node_hessian_diagonal(phi, k, v[:, None] * d)
-            return out
-
-        return nonlinear_rows(value, jac, hess, rows.lb, rows.ub)
-
-    def angle_rows(self, rows: AngleRows) -> LinearConstraint:
-        return LinearConstraint(rows.A, rows.lb, rows.ub)
-
-    def start(self, blocks: Sequence[Block]) -> FloatArray:
-        return self.model.x0
-
-    def block_multipliers(self, raw: Sequence[Any]) -> list[FloatArray]:
-        return [np.asarray(v, dtype=float).copy() for v in raw]
-
-    def raw_multipliers(self, blocks: Sequence[Block], per_block: Sequence[FloatArray]) -> list[FloatArray]:
-        return [np.asarray(v, dtype=float) for v in per_block]
-
-    def answer(self, blocks: Sequence[Block], x: FloatArray, per_block: Sequence[FloatArray]) -> FloatArray:
-        return np.asarray(x, dtype=float).copy()
 
 
 @dataclass(frozen=True)
@@ -284,6 +162,14 @@ class Formulation:
                 c = np.asarray(con["fun"](x), dtype=float)
                 parts.append(np.abs(c) if con["type"] == "eq" else np.maximum(-c, 0.0))
         return np.concatenate(parts)
+
+    def nodes_at(self, phi: FloatArray) -> FloatArray:
+        """The chain's nodes at the bar angles ``phi``, shape (n + 1, 2): those the program last evaluated when they
+        are at ``phi`` (the same numbers), else computed."""
+        point = getattr(self.layout, "point", None)
+        if point is not None and point.phi is not None and np.array_equal(point.phi, phi):
+            return point.nodes.copy()
+        return self.model.chain.nodes(phi)
 
     def max_violation(self, phi: FloatArray, nodes: FloatArray | None = None) -> float:
         """Largest violation (mm or rad) of any block at the bar angles ``phi`` — walls at every node, not only

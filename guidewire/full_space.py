@@ -44,6 +44,7 @@ import sqp
 
 from .blocks import AngleRows, Block, NodeRows
 from .model import Model
+from .reduced import nonlinear_rows
 from .scene import Scene
 
 FloatArray = NDArray[np.float64]
@@ -231,8 +232,6 @@ class FullLayout:
         def hess(z: FloatArray, v: FloatArray) -> sp.csc_matrix:
             data = (scale**2 * np.asarray(v, dtype=float)[:, None, None] * rows.hessians).ravel()
             return sp.csc_matrix((data, (hess_rows, hess_cols)), shape=(size, size))
-
-        from .formulation import nonlinear_rows
 
         return nonlinear_rows(value, jac, hess, rows.lb, rows.ub)
 

@@ -95,17 +95,18 @@ def _pose_angles(points: list[FloatArray], angles: list[float | None]) -> list[f
 
 
 @functools.cache
-def _curve_tables(samples: int) -> tuple[FloatArray, FloatArray, FloatArray]:
+def _curve_tables(samples: int) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """What every call of :func:`_segment_curves` shares (read-only) for a midpoint rule of ``samples`` points: the
     points ``u`` (M,), the basis ``sin(πu), sin(2πu)`` repeated (2, 2M) — the arguments of cos θ and of
-    ``sin θ = cos(θ − π/2)`` side by side — and the block weights (2M, 6) whose one matrix product gives the means of
-    (cos θ, sin θ) and their derivatives in c (columns: cos × [mean, d/dc₁, d/dc₂], then sin × the same)."""
+    ``sin θ = cos(θ − π/2)`` side by side —, the block weights (2M, 6) whose one matrix product gives the means of
+    (cos θ, sin θ) and their derivatives in c (columns: cos × [mean, d/dc₁, d/dc₂], then sin × the same), and
+    ``cos(πu), cos(2πu)`` (2, M) for the slopes of the basis."""
     u = (np.arange(samples) + 0.5) / samples  # midpoints, s = u ℓ
     basis = np.stack((np.sin(np.pi * u), np.sin(2.0 * np.pi * u)))
     weights = np.column_stack((np.ones(samples), basis.T)) / samples
     blocks = np.zeros((2 * samples, 6))
     blocks[:samples, :3], blocks[samples:, 3:] = weights, weights
-    tables = (u, np.hstack((basis, basis)), blocks)
+    tables = (u, np.hstack((basis, basis)), blocks, np.stack((np.cos(np.pi * u), np.cos(2.0 * np.pi * u))))
     for table in tables:
         table.flags.writeable = False
     return tables
@@ -114,32 +115,49 @@ def _curve_tables(samples: int) -> tuple[FloatArray, FloatArray, FloatArray]:
 def _lift(samples: int, a0: float, a1: float) -> tuple[FloatArray, FloatArray]:
     """The matrix (3, 2M) taking ``[c₁, c₂, 1]`` to the arguments ``[θ | θ − π/2]`` at the sample points, and the
     block weights of :func:`_curve_tables`."""
-    u, basis, blocks = _curve_tables(samples)
+    u, basis, blocks, _ = _curve_tables(samples)
     line = a0 + (a1 - a0) * u
     return np.vstack((basis, np.concatenate((line, line - 0.5 * np.pi)))), blocks
 
 
-def _newton(c: FloatArray, lift: FloatArray, blocks: FloatArray, target: FloatArray, steps: int) -> FloatArray:
+#: Columns of the means ``[cm0 − tx, cm1, cm2, sm0 − ty, sm1, sm2]`` (``cm``: cos θ, ``sm``: sin θ; 0 the mean, 1 and
+#: 2 its derivatives in c₁, c₂) whose products :func:`_newton` needs — ``sm2·cm1, sm1·cm2, sm2·ry, cm2·rx, cm1·rx,
+#: sm1·ry`` — and the matrix summing them into the Jacobian's determinant and the two numerators of Cramer's rule.
+#: (Every sum it forms has two non-zero terms of weight ±1: exactly the subtraction or addition it replaces.)
+_LEFT, _RIGHT = np.array([5, 4, 5, 2, 1, 4]), np.array([1, 2, 3, 0, 0, 3])
+_CRAMER = np.array([[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0],
+                    [0.0, 0.0, 1.0]])
+
+
+def _newton(c: FloatArray, lift: FloatArray, blocks: FloatArray, target: FloatArray, steps: int
+            ) -> tuple[FloatArray, bool]:
     """``steps`` damped Newton steps (``|Δc|∞ ≤ 1``) on the closure ``mean(cos θ, sin θ) = target`` for every row of
     ``c`` (G, 3; the last column is 1) at once, in place; stops early once every step is below 1e-13. Returns the
-    end-point miss / ℓ (G,) before the last step."""
-    tx, ty = target
-    miss = np.full(c.shape[0], np.inf)
+    end-point miss / ℓ (G,) before the last step, and whether it stopped so (then every miss is the end point's up
+    to that last step: below 1e-12, or exactly the end point's where the Jacobian is singular and no step is made).
+
+    Each step is a handful of whole-array operations (the 2 × 2 solves of all rows by Cramer's rule as one product
+    and one matrix product, :data:`_CRAMER`): per row the same arithmetic as writing the rule out term by term."""
+    offset = np.array([target[0], 0.0, 0.0, target[1], 0.0, 0.0])
+    means, settled = None, False
     for _ in range(steps):
-        cm0, cm1, cm2, sm0, sm1, sm2 = (np.cos(c @ lift) @ blocks).T
-        rx, ry = cm0 - tx, sm0 - ty
-        det = sm2 * cm1 - sm1 * cm2  # Jacobian [[−sm1, −sm2], [cm1, cm2]]
-        inv = 1.0 / np.where(np.abs(det) > 1e-12, det, np.inf)  # singular: no step
-        s1 = -(sm2 * ry + cm2 * rx) * inv
-        s2 = (cm1 * rx + sm1 * ry) * inv
-        size = np.maximum(np.abs(s1), np.abs(s2))
-        scale = 1.0 / np.maximum(size, 1.0)
-        c[:, 0] += s1 * scale
-        c[:, 1] += s2 * scale
-        miss = np.hypot(rx, ry)
+        means = np.cos(c @ lift) @ blocks
+        means -= offset  # the residual in columns 0 and 3
+        cramer = (means[:, _LEFT] * means[:, _RIGHT]) @ _CRAMER  # det, −(sm2 ry + cm2 rx), cm1 rx + sm1 ry
+        det = cramer[:, 0]
+        step = cramer[:, 1:] * (1.0 / np.where(np.abs(det) > 1e-12, det, np.inf))[:, None]  # singular: no step
+        size = np.abs(step).max(axis=1)
+        c[:, :2] += step * (1.0 / np.maximum(size, 1.0))[:, None]
         if not size.size or size.max() <= 1e-13:
+            settled = True
             break
-    return miss
+    return (np.full(c.shape[0], np.inf) if means is None else np.hypot(means[:, 0], means[:, 3])), settled
+
+
+#: The grid of starts ``[c₁, c₂, 1]`` of :func:`_segment_curves` (read-only; each call copies it).
+_STARTS = np.stack((*np.meshgrid(*(2 * [np.linspace(-NEWTON_GRID, NEWTON_GRID, NEWTON_GRID_POINTS)]), indexing="ij"),
+                    np.ones((NEWTON_GRID_POINTS, NEWTON_GRID_POINTS))), axis=-1).reshape(-1, 3)
+_STARTS.flags.writeable = False
 
 
 def _segment_curves(
@@ -157,25 +175,27 @@ def _segment_curves(
     -------
     coefficients : ndarray, shape (G, 2)
     residual : ndarray, shape (G,)
-        End-point miss in mm of each start after the Newton steps (``inf`` for a dropped start).
+        End-point miss in mm of each start after the Newton steps (``inf`` for a dropped start; below 1e-12 ℓ for a
+        start whose last step was below 1e-13).
     energy : ndarray, shape (G,)
-        ``∫ θ'² ds`` of each curve (1/mm), the bending energy over ``EI/2``.
+        ``∫ θ'² ds`` of each curve (1/mm), the bending energy over ``EI/2`` (``inf`` for a dropped start).
     """
-    grid = np.linspace(-NEWTON_GRID, NEWTON_GRID, NEWTON_GRID_POINTS)
-    c = np.stack((*np.meshgrid(grid, grid, indexing="ij"), np.ones((grid.size, grid.size))), axis=-1).reshape(-1, 3)
+    c = _STARTS.copy()
     target = (p1 - p0) / length
-    coarse = _newton(c, *_lift(COARSE_SAMPLES, a0, a1), target, COARSE_STEPS)
+    coarse, _ = _newton(c, *_lift(COARSE_SAMPLES, a0, a1), target, COARSE_STEPS)
     near = np.flatnonzero(coarse <= POLISH_MISS)
     lift, blocks = _lift(CURVE_SAMPLES, a0, a1)
     fine = c[near]
-    _newton(fine, lift, blocks, target, NEWTON_STEPS - COARSE_STEPS)
+    last, settled = _newton(fine, lift, blocks, target, NEWTON_STEPS - COARSE_STEPS)
     c[near] = fine
-    miss = np.full(c.shape[0], np.inf)
-    m = np.cos(fine @ lift) @ blocks[:, ::3]
-    miss[near] = np.hypot(m[:, 0] - target[0], m[:, 1] - target[1]) * length
-    u = _curve_tables(CURVE_SAMPLES)[0]
-    slope = (a1 - a0) + np.pi * c[:, :1] * np.cos(np.pi * u) + 2.0 * np.pi * c[:, 1:2] * np.cos(2.0 * np.pi * u)
-    energy = np.mean(slope**2, axis=1) / length  # ∫ (dθ/ds)² ds
+    if not settled:  # the end points' own miss (when every step settled, the last one decides the same)
+        m = np.cos(fine @ lift) @ blocks[:, ::3]
+        last = np.hypot(m[:, 0] - target[0], m[:, 1] - target[1])
+    miss, energy = np.full(c.shape[0], np.inf), np.full(c.shape[0], np.inf)
+    miss[near] = last * length
+    cos1, cos2 = _curve_tables(CURVE_SAMPLES)[3]
+    slope = (a1 - a0) + np.pi * fine[:, :1] * cos1 + 2.0 * np.pi * fine[:, 1:2] * cos2
+    energy[near] = np.mean(slope**2, axis=1) / length  # ∫ (dθ/ds)² ds
     return c[:, :2], miss, energy
 
 
@@ -289,13 +309,25 @@ def _wall_gaps(scene: Scene, start: FloatArray, angle: float, kappa: FloatArray,
     lo, width = 0, (FREE_CHUNK_NODES if lazy else m)
     while lo < m and rows.size:
         part = slice(lo, lo + width)
-        phi = angle + kappa[rows, None] * s_mid[None, part]
-        steps = lengths[None, part, None] * np.stack((np.cos(phi), np.sin(phi)), axis=-1)
-        sums = np.cumsum(np.concatenate((last[rows, None, :], steps), axis=1), axis=1)[:, 1:]
-        nodes = start + sums
+        # x and y apart, in place (no (rows, nodes, 2) temporaries): per element the arithmetic of
+        # start + cumsum(l (cos φ, sin φ)) continued from ``last``, and offset − n̂ · p
+        phi = kappa[rows, None] * s_mid[None, part]
+        phi += angle
+        x = np.cos(phi)
+        y = np.sin(phi, out=phi)
+        x *= lengths[None, part]
+        y *= lengths[None, part]
+        x[:, 0] += last[rows, 0]
+        y[:, 0] += last[rows, 1]
+        np.cumsum(x, axis=1, out=x)
+        np.cumsum(y, axis=1, out=y)
+        last[rows, 0], last[rows, 1] = x[:, -1], y[:, -1]
+        x += start[0]
+        y += start[1]
         for (nx, ny), offset in walls:
-            gap[rows] = np.minimum(gap[rows], np.min(offset - (nodes[..., 0] * nx + nodes[..., 1] * ny), axis=1))
-        last[rows] = sums[:, -1]
+            reach = x * nx
+            reach += y * ny
+            gap[rows] = np.minimum(gap[rows], offset - reach.max(axis=1))  # (min of offset − reach, rounding kept)
         lo, width = lo + width, 2 * width
         if lazy:
             rows = rows[gap[rows] >= 0.0]

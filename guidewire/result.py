@@ -262,9 +262,10 @@ UNITS = {
 }
 
 
-def _node_geometry(form: Formulation, phi: FloatArray
+def _node_geometry(form: Formulation, phi: FloatArray, elastic: FloatArray | None = None
                    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
-    """Tangent angles, relative angles, curvature, bending stress (MPa) and elastic angle jump at the nodes."""
+    """Tangent angles, relative angles, curvature, bending stress (MPa) and elastic angle jump at the nodes
+    (``elastic``: the energy's joint angles at ``phi`` when the caller has them)."""
     n, scene, energy = form.n, form.scene, form.energy
     tangent = np.concatenate(([phi[0]], 0.5 * (phi[:-1] + phi[1:]), [phi[-1]]))
     if scene.base.angle is not None:
@@ -272,10 +273,9 @@ def _node_geometry(form: Formulation, phi: FloatArray
     for node, contact in zip(form.contact_nodes, scene.contacts, strict=True):  # contacts, not nodes
         if contact.angle is not None:
             tangent[node] = contact.angle
-    elastic = energy.joint_angles(phi)
+    elastic = energy.joint_angles(phi) if elastic is None else elastic
     delta = elastic + energy.rest_angles if energy.rest is not None else elastic
-    relative = np.zeros(n + 1)
-    np.add.at(relative, energy.node, delta)
+    relative = np.bincount(energy.node, delta, minlength=n + 1)  # (the sums np.add.at makes, in the same order)
     kappa_t = delta / energy.dual_length
     order = np.lexsort((np.abs(kappa_t), energy.node))  # per node, the largest |κ| assigned last
     curvature = np.zeros(n + 1)
@@ -295,18 +295,18 @@ def _node_geometry(form: Formulation, phi: FloatArray
         stress_t = term_fibre * np.abs(elastic / energy.dual_length)
         stress = np.zeros(n + 1)
         np.maximum.at(stress, energy.node, stress_t)
-        jump = np.zeros(n + 1)
-        np.add.at(jump, energy.node, elastic)
+        jump = np.bincount(energy.node, elastic, minlength=n + 1)
     else:
         stress = wire.youngs_modulus * 0.5 * wire.diameter * np.abs(curvature)
         jump = relative
     return tangent, relative, curvature, stress, jump
 
 
-def _reactions(form: Formulation, phi: FloatArray, nodes: FloatArray, multipliers: list[FloatArray] | None
-               ) -> tuple[tuple[Reaction, ...], FloatArray | None]:
+def _reactions(form: Formulation, phi: FloatArray, nodes: FloatArray, multipliers: list[FloatArray] | None,
+               elastic: FloatArray | None = None) -> tuple[tuple[Reaction, ...], FloatArray | None]:
     """Support reactions and wall forces from the per-block multipliers (module docstring for the signs); without
-    multipliers (a failed solve) the supports and their nodes, with no force or moment."""
+    multipliers (a failed solve) the supports and their nodes, with no force or moment. ``elastic``: the energy's
+    joint angles at ``phi`` when the caller has them."""
     scene, energy, n = form.scene, form.energy, form.n
     contacts = scene.contacts
     loads = Loads.empty(n)
@@ -315,8 +315,8 @@ def _reactions(form: Formulation, phi: FloatArray, nodes: FloatArray, multiplier
             block.add_loads(form.model, lam, loads)
     forces, moments = loads.forces, loads.moments
     # ∂E/∂θ* per node from the terms that contain a prescribed tangent (∂r_t/∂θ* = row sum of D_t).
-    node_moment = np.zeros(n + 1)
-    np.add.at(node_moment, energy.node, -2.0 * energy.weight * energy.joint_angles(phi) * energy.row_sum)
+    elastic = energy.joint_angles(phi) if elastic is None else elastic
+    node_moment = np.bincount(energy.node, -2.0 * energy.weight * elastic * energy.row_sum, minlength=n + 1)
     for i, (node, contact) in enumerate(zip(form.contact_nodes, contacts, strict=True)):
         if contact.angle is not None and i not in moments:
             moments[i] = float(node_moment[node])
@@ -364,7 +364,7 @@ def build_solution(form: Formulation, res: Any, solve_time_s: float, *, iteratio
     """
     multipliers = form.multipliers(res)
     phi = form.answer(np.asarray(res.x, dtype=float), multipliers)
-    nodes = form.chain.nodes(phi)
+    nodes = form.nodes_at(phi)
     max_violation = form.max_violation(phi, nodes)
     success, status = bool(res.success), int(res.status)
     message = str(res.message) if message is None else message
@@ -375,12 +375,13 @@ def build_solution(form: Formulation, res: Any, solve_time_s: float, *, iteratio
     if defect is not None:
         success, status = False, SHAPE_REJECTED
         message = f"The solver converged, but the shape is rejected: {defect}. ({message})"
-    tangent, relative, curvature, stress, jump = _node_geometry(form, phi)
-    reactions, wall_forces = _reactions(form, phi, nodes, multipliers if success else None)
+    elastic = form.energy.joint_angles(phi)
+    tangent, relative, curvature, stress, jump = _node_geometry(form, phi, elastic)
+    reactions, wall_forces = _reactions(form, phi, nodes, multipliers if success else None, elastic)
     return Solution(
         scene=form.scene, nodes=nodes, s=form.chain.arc_lengths, bar_angles=phi, tangent_angles=tangent,
         relative_angles=relative, curvature=curvature, bending_stress_mpa=stress, paper_stress_measure=np.abs(jump),
-        energy=float(form.energy.value(phi)), reactions=reactions,
+        energy=float(np.dot(form.energy.weight, elastic * elastic)), reactions=reactions,  # (EnergyTerms.value)
         wall_forces=wall_forces, success=success, status=status, message=message,
         iterations=int(res.nit) if iterations is None else int(iterations), solve_time_s=float(solve_time_s),
         max_violation=max_violation, result=res, layout=form.layout.name, rounds=int(rounds),

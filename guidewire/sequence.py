@@ -3,6 +3,7 @@ predictor along a steady change."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 from dataclasses import dataclass, replace
 from typing import Any
@@ -77,13 +78,15 @@ def solve_sequence(scenes: Iterable[Scene], **options: Any) -> SequenceResult:
         the sequence with the steps solved so far and the reason in ``error``.
     """
     out: list[Solution] = []
+    parameters: list[tuple[tuple[Any, ...], Any]] = []  # of the scenes solved, then of this one
     options.setdefault("reuse", ModelReuse())
     for step, scene in enumerate(scenes):
+        parameters = [*parameters[-2:], _scene_parameters(scene)]
         if out:
             prev = out[-1]
             options["initial_angles"] = _resampled_angles(prev, scene, options.get("bars"))
             options["multipliers0"] = prev
-            t = secant_factor(out[-2].scene, prev.scene, scene) if len(out) >= 2 else 0.0
+            t = _secant(*parameters[-3:]) if len(out) >= 2 else 0.0
             if t and out[-2].bar_angles.size == prev.bar_angles.size == options["initial_angles"].size:
                 options["initial_angles"], options["multipliers0"] = _secant_prediction(out[-2], prev, t)
         try:
@@ -113,11 +116,16 @@ def _scene_parameters(scene: Scene) -> tuple[tuple[Any, ...], Any]:
 def secant_factor(a: Scene, b: Scene, c: Scene) -> float:
     """``t`` with ``p(c) − p(b) = t (p(b) − p(a))`` for the scene parameters ``p`` when the two changes are parallel
     (a steady advance: a contact moving along a line, the inserted length growing), else 0."""
-    (ka, pa), (kb, pb), (kc, pc) = _scene_parameters(a), _scene_parameters(b), _scene_parameters(c)
+    return _secant(_scene_parameters(a), _scene_parameters(b), _scene_parameters(c))
+
+
+def _secant(a: tuple[tuple[Any, ...], Any], b: tuple[tuple[Any, ...], Any], c: tuple[tuple[Any, ...], Any]) -> float:
+    """:func:`secant_factor` from the three scenes' :func:`_scene_parameters`."""
+    (ka, pa), (kb, pb), (kc, pc) = a, b, c
     if not (ka == kb == kc) or pa.size != pc.size:
         return 0.0
     old, new = pb - pa, pc - pb
-    norm_old, norm_new = float(np.linalg.norm(old)), float(np.linalg.norm(new))
+    norm_old, norm_new = math.sqrt(float(old @ old)), math.sqrt(float(new @ new))  # (np.linalg.norm's arithmetic)
     if norm_old == 0.0 or norm_new == 0.0 or float(old @ new) < SECANT_COSINE * norm_old * norm_new:
         return 0.0
     return norm_new / norm_old
@@ -146,7 +154,8 @@ def _resampled_angles(prev: Solution, scene: Scene, bars: int | None) -> Any:
     """The previous bar angles at the new bars' midpoints, by relative arc length."""
     n_new = bars if bars is not None else scene.wire.bars
     old = prev.bar_angles
-    if old.size == n_new and np.isclose(prev.s[-1], scene.wire.length):
+    length = float(scene.wire.length)
+    if old.size == n_new and abs(float(prev.s[-1]) - length) <= 1e-8 + 1e-5 * abs(length):  # (np.isclose)
         return old
     s_old = 0.5 * (prev.s[1:] + prev.s[:-1]) / prev.s[-1]
     s_new = (np.arange(n_new) + 0.5) / n_new

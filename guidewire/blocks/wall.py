@@ -38,7 +38,7 @@ class Wall(Block):
     def build(cls, model: Model, working_set: Any = None) -> list[Block]:
         out: list[Block] = []
         n = model.n
-        start = model.chain.nodes(model.x0) if isinstance(working_set, str) else None
+        start = model.chain.nodes(model.x0) if model.scene.walls and isinstance(working_set, str) else None
         for j, wall in enumerate(model.scene.walls):
             normal, offset = wall.unit()
             if working_set is None:

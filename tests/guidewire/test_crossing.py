@@ -61,3 +61,46 @@ def test_two_wall_channel_gives_the_straight_wire_not_a_coil():
     assert sol.success, sol.message
     assert sol.energy == pytest.approx(1.5128, rel=0.01) and sol.iterations <= 10
     assert crossing_bars(sol.nodes) is None and np.max(np.abs(sol.nodes[:, 1])) <= 2.0 + 1e-9
+
+
+def _brute_touching(p, tolerance=1e-9):
+    """The first pair by :func:`guidewire.crossing._segments_cross` over every non-adjacent pair (touching included)."""
+    from guidewire.crossing import _segments_cross
+
+    a, b = p[:-1], p[1:]
+    scale = tolerance * np.hypot(*(b - a).T).max()
+    i, j = np.triu_indices(a.shape[0], 2)
+    hit = _segments_cross(a[i], b[i], a[j], b[j], scale)
+    if not hit.any():
+        return None
+    k = np.lexsort((j[hit], i[hit]))[0]
+    return int(i[hit][k]), int(j[hit][k])
+
+
+@pytest.mark.parametrize("gap", [-1e-10, 1e-10, 5e-10, -2e-9, 2e-9])
+@pytest.mark.parametrize("bars", [5, 30, 101])
+def test_a_wire_folded_back_onto_itself_touches_whatever_its_position(gap, bars):
+    """Folded back at a distance ``gap`` (mm, bars of 1 mm): within the touching distance (1e-9 of the longest bar)
+    it touches, beyond it not — also when the two strands lie on either side of a coordinate line (the boxes of the
+    candidate search are grown by the touching distance)."""
+    angles = np.concatenate((np.zeros(bars // 2), np.full(bars - bars // 2, np.pi)))
+    steps = np.c_[np.cos(angles), np.sin(angles)]
+    steps[bars // 2] = [0.0, gap]
+    for shift in (0.0, 0.37, -5.0):
+        p = np.vstack([[0.0, 0.0], np.cumsum(steps, axis=0)]) + [0.0, shift]
+        assert crossing_bars(p) == _brute_touching(p)
+        assert (crossing_bars(p) is not None) == (abs(gap) <= 1e-9)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_first_touching_or_crossing_pair_matches_brute_force_on_lattice_walks(seed):
+    """Walks on a lattice (collinear and touching bars everywhere) and coils: the pair found is the first one."""
+    rng = np.random.default_rng(200 + seed)
+    for _ in range(30):
+        steps = rng.integers(-1, 2, (int(rng.integers(5, 80)), 2)).astype(float)
+        steps[np.all(steps == 0.0, axis=1)] = [1.0, 0.0]
+        p = np.vstack([[0.0, 0.0], np.cumsum(steps, axis=0)]) * rng.uniform(0.1, 10.0)
+        assert crossing_bars(p) == _brute_touching(p)
+    t = np.linspace(0.0, rng.uniform(1.0, 5.0) * np.pi, 151)
+    coil = np.c_[(1.0 + 0.2 * t / t[-1]) * np.cos(t), (1.0 + 0.2 * t / t[-1]) * np.sin(t)]
+    assert crossing_bars(coil) == _brute_touching(coil)

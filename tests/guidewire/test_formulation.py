@@ -169,7 +169,7 @@ def test_bad_options():
 
 def test_curvature_term_is_the_sum_of_the_rows_jacobian_products():
     from guidewire.chain import BarChain
-    from guidewire.formulation import _curvature_term
+    from guidewire.reduced import _curvature_term
 
     rng = np.random.default_rng(3)
     n = 12

@@ -40,12 +40,44 @@ def test_growing_inserted_length_resamples_the_previous_shape():
     assert all(s.max_violation <= 1e-8 for s in sols)
 
 
-def test_steady_advance_uses_the_secant_predictor():
-    """Along a steady advance (equal, parallel scene changes) each step after the second starts from the secant
-    extrapolation of the last two answers: one Newton step and the converged check (2 iterations)."""
-    sols = guidewire.solve_sequence(_sliding(8))
+def test_steady_advance_uses_the_polynomial_predictor():
+    """Along a steady advance (equal, parallel scene changes) the third step starts from the secant through the last
+    two answers (one Newton step and the converged check: 2 iterations) and every later one from the quadratic
+    through the last three, close enough (O(h³)) that one SQP iteration meets the tolerance; the answers are the
+    cold solves' to 1e-9."""
+    scenes = _sliding(8)
+    sols = guidewire.solve_sequence(scenes)
     assert all(s.success for s in sols)
-    assert [s.iterations for s in sols[2:]] == [2] * 6
+    assert [s.iterations for s in sols[2:]] == [2] + [1] * 5
+    for s, scene in zip(sols[3:], scenes[3:], strict=True):
+        cold = guidewire.solve(scene)
+        assert s.energy == pytest.approx(cold.energy, rel=1e-9)
+        np.testing.assert_allclose(s.nodes, cold.nodes, atol=1e-7)
+        assert s.result.status == 0 and s.result.kkt["stationarity"] <= 1e-8  # SUCCESS: the strict test
+
+
+def test_the_predictor_extrapolates_through_successful_answers_of_one_layout_only():
+    """The predictor's points: the last answers that succeeded with the new step's bar count, joined by parallel
+    scene changes; a quadratic's weights reproduce a quadratic exactly."""
+    from guidewire.sequence import _lagrange_weights, _positions, _scene_parameters, _steady_points
+
+    scenes = _sliding(5)
+    sols = list(guidewire.solve_sequence(scenes[:4]))
+    params = [_scene_parameters(s) for s in scenes[:5]]
+    n = sols[-1].bar_angles.size
+    assert _steady_points(sols, params[-4:], n) == 3
+    assert _steady_points(sols, params[-4:], n + 1) == 0  # another bar count: no extrapolation
+    assert _steady_points(sols[:1], params[-2:], n) == 0  # one answer: nothing to extrapolate
+    failed = [*sols[:-2], replace(sols[-2], success=False), sols[-1]]
+    assert _steady_points(failed, params[-4:], n) == 0  # the failed answer ends the run at one point
+    bent = [*params[-4:-1], _scene_parameters(replace(scenes[4], contacts=(replace(scenes[4].contacts[0],
+                                                                                   point=(60.0, 45.0)),)))]
+    assert _steady_points(sols, bent, n) == 0  # the new change is not along the last ones
+    tau = _positions(params[-4:])
+    np.testing.assert_allclose(np.diff(tau), 0.5)  # 0.5 mm per step
+    w = _lagrange_weights([0.0, 1.0, 3.0, 4.5])
+    assert sum(wj * t**2 for wj, t in zip(w, [0.0, 1.0, 3.0], strict=True)) == pytest.approx(4.5**2)
+    assert _lagrange_weights([0.0, 1.0, 2.0, 3.0]) == pytest.approx([1.0, -3.0, 3.0])
 
 
 def test_secant_factor_only_for_parallel_changes():

@@ -216,10 +216,11 @@ def _as_format(H: Any, dense: bool) -> Any:
 
 @dataclass
 class State:
-    """The handful of values carried from one iteration to the next."""
+    """The handful of values carried from one iteration to the next (``B`` is None before an exact-Hessian solve's
+    first model)."""
 
     pt: Point
     der: Derivatives
-    B: Array
+    B: Any
     mu: Array
     qp: QPStep | None = None

@@ -226,7 +226,7 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
         assert failed is not None
         return failed, False
     hessian = hessian_strategy(problem, B0, lam0)
-    st = replace(st, B=hessian.initial(st))
+    st = State(st.pt, st.der, hessian.initial(st), st.mu)
     monitor = Monitor(problem, options.tol, options.max_iter, st.pt, st.pt.maxcv)
     history: list[IterationRecord] = []
     rho = 0.0  # the elastic QP's slack price

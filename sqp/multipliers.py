@@ -5,7 +5,6 @@ only active rows.
 
 from __future__ import annotations
 
-from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -22,7 +21,8 @@ Array = NDArray[np.float64]
 
 def al_rows(problem: Problem, lam: Array) -> Array:
     """Nonlinear rows the QP keeps as equalities: the equalities and the inequalities with a nonzero multiplier."""
-    return np.union1d(problem.nonlinear.eq, np.flatnonzero(lam))
+    # (np.union1d(eq, np.flatnonzero(lam)) without its sort: the same sorted indices from one mask)
+    return np.flatnonzero(problem.nonlinear.is_eq | (lam != 0))
 
 
 def equality_rows(problem: Problem, J: Any, rows: Array) -> Any:
@@ -33,6 +33,8 @@ def equality_rows(problem: Problem, J: Any, rows: Array) -> Any:
         parts.append(problem.A[problem.linear.eq])
     if not parts:
         return None
+    if len(parts) == 1 and not sp.issparse(parts[0]):  # (J[rows] and A[eq] are copies already)
+        return parts[0]
     if any(sp.issparse(p) for p in parts):
         return sp.vstack(parts, format="csr")
     return np.vstack(parts)
@@ -53,7 +55,9 @@ def newton_multipliers(problem: Problem, st: State, qp: QPStep, rows: Array, wei
     eq = problem.linear.eq
     if eq.size:
         lam_lin[eq] -= weight * np.asarray(problem.A[eq] @ qp.d).ravel()
-    return replace(qp, lam_nl=lam_nl, lam_lin=lam_lin)
+    # (the constructor, not dataclasses.replace: a third of its cost)
+    return QPStep(d=qp.d, lam_nl=lam_nl, lam_lin=lam_lin, z=qp.z, found=qp.found, elastic=qp.elastic, slack=qp.slack,
+                  status=qp.status)
 
 
 def nonlinear_lagrangian_gradient(problem: Problem, der: Derivatives, qp: QPStep) -> Array:

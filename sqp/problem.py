@@ -90,6 +90,13 @@ class Rows:
         )
 
     @cached_property
+    def is_eq(self) -> NDArray[np.bool_]:
+        """Which rows are equalities (``lb == ub``): the mask of :attr:`eq`."""
+        mask = np.zeros(self.lb.size, dtype=bool)
+        mask[self.eq] = True
+        return mask
+
+    @cached_property
     def inequality_without_lower(self) -> NDArray[np.intp]:
         """Inequality rows with no finite lower side (a positive multiplier there has the wrong sign)."""
         return np.flatnonzero((self.lb != self.ub) & ~np.isfinite(self.lb))

@@ -115,6 +115,23 @@ class Rows:
 
 
 @dataclass(frozen=True)
+class StartValues:
+    """What the user functions returned at the (clipped) start ``x`` when :func:`sqp.build.build_problem` called them
+    to check their shapes (copies, converted as the checks converted them): the solve's first evaluation of that
+    same point reuses them instead of calling again (:class:`sqp.iterate.Evaluator`).
+
+    ``f`` is the objective's value, ``g`` the gradient (None with finite differences); ``c`` and ``J`` hold one entry
+    per nonlinear block, its values and its checked Jacobian (None where it is differenced).
+    """
+
+    x: Array
+    f: Any
+    g: Array | None
+    c: tuple[Array, ...]
+    J: tuple[Any, ...]
+
+
+@dataclass(frozen=True)
 class Problem:
     """A validated nonlinear program ``min f(x)`` s.t. bounds, linear rows and nonlinear rows.
 
@@ -134,6 +151,8 @@ class Problem:
         How the derivatives the user did not give are approximated (SLSQP's rule).
     x0_clipped : ndarray of int
         Indices where the user's ``x0`` lay outside the bounds and was clipped onto them (as SLSQP does, silently).
+    start : StartValues or None
+        The user functions' values at ``x0``, computed while the input was checked.
     sparse_jacobians : bool
         Whether every constraint Jacobian is a scipy.sparse matrix: each nonlinear constraint's ``jac`` at ``x0`` (a
         finite-difference one is dense) and each ``LinearConstraint.A``. True without constraints. Read once, by
@@ -155,6 +174,7 @@ class Problem:
     sparse_jacobians: bool = True
     differences: FiniteDifferences = FiniteDifferences()
     x0_clipped: NDArray[np.intp] = field(default_factory=lambda: np.zeros(0, dtype=np.intp))
+    start: StartValues | None = field(default=None, repr=False, compare=False)
 
     @property
     def n(self) -> int:

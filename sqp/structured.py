@@ -203,9 +203,10 @@ def range_space_kkt(L: Array, g: Array, E: Array, e: Array) -> tuple[Array, Arra
     rhs = np.empty((n, m + 1), order="F")
     rhs[:, 0] = g
     rhs[:, 1:] = E.T
-    # (scipy's cho_solve without its checks, and with the factor as the upper triangle L^T, a Fortran-ordered view
-    # of the C-ordered L: LAPACK reads it in place instead of a transposed copy; the same solves, the same numbers)
-    WX, info = lapack.dpotrs(L.T, rhs, lower=0, overwrite_b=True)
+    # (scipy's cho_solve without its checks and copies: a C-ordered L is passed as the upper triangle L^T, its
+    # Fortran-ordered view, so that LAPACK reads it in place; the same solves, the same numbers)
+    WX, info = (lapack.dpotrs(L, rhs, lower=1, overwrite_b=True) if L.flags.f_contiguous
+                else lapack.dpotrs(L.T, rhs, lower=0, overwrite_b=True))
     if info != 0:
         return None
     w, X = WX[:, 0], WX[:, 1:]

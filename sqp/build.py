@@ -194,8 +194,11 @@ def build_problem(
         raise TypeError(f"jac must be callable, True (fun returns (f, g)), None/False or one of {FD_METHODS}; "
                         f"got {jac!r}.")
     lower, upper = _check_bounds(bounds, n)
-    xs = np.clip(x, lower, upper)
-    clipped = np.flatnonzero(xs != x)
+    if bounds is None:  # (x is this function's own copy; nothing to clip)
+        xs, clipped = x, np.zeros(0, dtype=np.intp)
+    else:
+        xs = np.clip(x, lower, upper)
+        clipped = np.flatnonzero(xs != x)
 
     if isinstance(constraints, dict | LinearConstraint | NonlinearConstraint):
         constraints = (constraints,)

@@ -263,19 +263,22 @@ class Problem:
         """:attr:`slsqp_rows` when every constraint is an SLSQP dict (``eq``: ``lb = ub = 0``, ``ineq``: ``lb = 0,
         ub = inf``): the rows of the ``eq`` dicts, then those of the ``ineq`` dicts, each in the order given, with
         sign +1 and none two-sided."""
-        offsets = np.cumsum([0] + [b.size for b in self.blocks])
-        ranges = [np.arange(offsets[k], offsets[k + 1]) for k in range(len(self.blocks))]
-        is_eq = [bool(b.size) and bool(np.isfinite(b.ub[0])) for b in self.blocks]
-        index = np.concatenate([r for r, e in zip(ranges, is_eq, strict=True) if e]
-                               + [r for r, e in zip(ranges, is_eq, strict=True) if not e] + [np.zeros(0, np.intp)])
-        return index.astype(np.intp), np.ones(index.size), np.zeros(index.size, dtype=bool)
+        offsets = [0]
+        for b in self.blocks:
+            offsets.append(offsets[-1] + b.size)
+        ranges = [np.arange(offsets[k], offsets[k + 1], dtype=np.intp) for k in range(len(self.blocks))]
+        is_eq = [bool(b.size) and b.ub[0] < np.inf for b in self.blocks]
+        eq = [r for r, e in zip(ranges, is_eq, strict=True) if e]
+        ineq = [r for r, e in zip(ranges, is_eq, strict=True) if not e]
+        index = eq[0] if len(eq) == 1 and not ineq else np.concatenate(eq + ineq + [np.zeros(0, np.intp)])
+        return index, np.ones(index.size), np.zeros(index.size, dtype=bool)
 
     def slsqp_multipliers(self, per_constraint: list[Array]) -> Array:
         """The multipliers as scipy's SLSQP returns them (:attr:`slsqp_rows`) from one array per constraint."""
         index, sign, two_sided = self.slsqp_rows
         flat = np.concatenate(per_constraint) if per_constraint else np.zeros(0)
         out = sign * flat[index]
-        return np.where(two_sided, np.maximum(out, 0.0), out)
+        return np.where(two_sided, np.maximum(out, 0.0), out) if two_sided.any() else out
 
     def split_multipliers(self, lam_lin: Array, lam_nl: Array) -> list[Array]:
         """The stacked row multipliers as one array per user constraint, in the order given."""

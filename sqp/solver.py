@@ -266,7 +266,7 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
     stop = monitor.detail(stop)
     flat = stop.status in RESTART_STATUSES and flat_violation(problem, st, options.tol)
     return build_result(problem, ev, st.pt, st.der, st.qp, stop.status, history, t_start, B=st.B, nit=len(history),
-                        detail=stop.detail), flat
+                        detail=stop.detail, kkt=monitor.residuals(st)), flat
 
 
 def bounded_steps(options: Options, nit: int) -> Options:

@@ -128,15 +128,15 @@ def _convexify(W: Any, shift: float, C: Any, rho: float) -> tuple[Any, float, fl
             return B, 0.0, 0.0
         if rho <= 0.0:
             CtC = _gram(C, is_sparse)
-    diag = W.diagonal() if is_sparse else np.diag(W)
-    scale = max(1.0, float(np.max(np.abs(diag), initial=0.0)))
+    # (method calls on the diagonal views: W is n x n, n >= 1)
+    scale = max(1.0, float(np.abs(W.diagonal()).max()))
     if CtC is not None:
-        base = float(np.max(CtC.diagonal(), initial=0.0))
+        base = float(CtC.diagonal().max())  # (>= 0: a Gram matrix's diagonal)
         if base > 0.0:
             r0 = 1e-3 * scale / base
             r = r0 if rho <= 0.0 else max(rho, r0) if is_sparse else rho / 4.0
             for _ in range(12):
-                B = _accepted(_sorted(W + r * CtC, is_sparse), is_sparse)
+                B = _accepted(_sorted(_plus_scaled(W, r, CtC, is_sparse), is_sparse), is_sparse)
                 if B is not None:
                     return B, 0.0, r
                 r *= 10.0
@@ -169,6 +169,15 @@ def _gram(C: Any, is_sparse: bool) -> Any:
         return None
     CtC = sp.csc_matrix(C.T @ C)
     return CtC if CtC.nnz <= SPARSE_GRAM_DENSITY * CtC.shape[0] else None
+
+
+def _plus_scaled(W: Any, r: float, CtC: Any, is_sparse: bool) -> Any:
+    """``W + r * CtC``, dense in one new array (the sum taken in place of the product, the same numbers)."""
+    if is_sparse:
+        return W + r * CtC
+    out = r * CtC
+    out += W
+    return out
 
 
 def _sorted(B: Any, is_sparse: bool) -> Any:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -132,7 +133,7 @@ class Evaluator:
         c = np.concatenate([self._c(b, x, None if start is None else start.c[i])
                             for i, b in enumerate(p.blocks)]) if p.blocks else _EMPTY
         r = np.asarray(p.A @ x, dtype=float).ravel() if p.A.shape[0] else _EMPTY
-        finite = bool(np.isfinite(f) and np.isfinite(c).all())
+        finite = math.isfinite(f) and bool(np.isfinite(c).all())
         v = p.nonlinear.violation(c)
         return Point(x=x, f=f, c=c, r=r, v=v, maxcv=max_violation(p, x, c, r, v), finite=finite)
 
@@ -154,7 +155,10 @@ class Evaluator:
                                  "of fun.")
         if p.blocks:
             parts = [self._jac(b, x, None if start is None else start.J[i]) for i, b in enumerate(p.blocks)]
-            J = sp.vstack(parts, format="csr") if any(sp.issparse(m) for m in parts) else np.vstack(parts)
+            if len(parts) == 1:  # (a copy, as the stacking of several: the user may reuse the array)
+                J = sp.vstack(parts, format="csr") if sp.issparse(parts[0]) else parts[0].copy()
+            else:
+                J = sp.vstack(parts, format="csr") if any(sp.issparse(m) for m in parts) else np.vstack(parts)
         else:
             J = np.zeros((0, x.size))
         return Derivatives(g=g, J=J)
@@ -201,7 +205,7 @@ class Evaluator:
         for block in p.blocks:
             v = lam_nl[start : start + block.size]
             start += block.size
-            if not np.any(v):
+            if not v.any():
                 continue
             assert block.hess is not None
             name = block.part("hess")
@@ -221,7 +225,7 @@ class Evaluator:
         if H.shape != (n, n):
             raise ValueError(f"{name} returned shape {H.shape} at {self.where}; expected ({n}, {n}).")
         data = H.data if sp.issparse(H) else H
-        if self.hessian_nonfinite is None and not np.all(np.isfinite(data)):
+        if self.hessian_nonfinite is None and not np.isfinite(data).all():
             self.hessian_nonfinite = name
         return H
 

@@ -74,7 +74,7 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
     tried = alpha
     while alpha >= MIN_STEP_LENGTH:
         trial = trial_point(problem, ev, st.pt.x, alpha * d)
-        if np.array_equal(trial.x, st.pt.x):
+        if (trial.x == st.pt.x).all():
             # the step is below the rounding level of x: no progress is possible along d
             return Search(alpha=tried, nonfinite=nonfinite, mu=mu)
         tried = alpha

@@ -75,12 +75,12 @@ def loaded_rows_active(problem: Problem, st: State, tol: float) -> bool:
     assert qp is not None
     x = st.pt.x
     limit = tol * max(1.0, inf_norm(x))
-    for rows, values, lam in ((problem.nonlinear, st.pt.c, qp.lam_nl), (problem.linear, st.pt.r, qp.lam_lin),
-                              (problem.bound_rows if problem.has_bounds else None, x, qp.z)):
-        if rows is None or lam.size == 0:
-            continue
-        with np.errstate(invalid="ignore"):
+    with np.errstate(invalid="ignore"):
+        for rows, values, lam in ((problem.nonlinear, st.pt.c, qp.lam_nl), (problem.linear, st.pt.r, qp.lam_lin),
+                                  (problem.bound_rows if problem.has_bounds else None, x, qp.z)):
+            if rows is None or lam.size == 0:
+                continue
             gap = np.where(lam > 0, values - rows.lb, np.where(lam < 0, rows.ub - values, 0.0))
-        if np.any(~(np.abs(gap) <= limit)):
-            return False
+            if not (np.abs(gap) <= limit).all():  # (NaN fails too)
+                return False
     return True

@@ -318,7 +318,7 @@ def _record(problem: Problem, ev: Evaluator, nit: int, st: State, kkt: KKTResidu
     return IterationRecord(
         nit=nit + 1, nfev=ev.nfev, f=st.pt.f, maxcv=st.pt.maxcv,
         kkt=kkt.worst, step=inf_norm(s), alpha=search.alpha,
-        penalty=float(np.max(st.mu, initial=0.0)), qp_status=st.qp.status, damped=damped, soc=search.soc,
+        penalty=float(st.mu.max()) if st.mu.size else 0.0, qp_status=st.qp.status, damped=damped, soc=search.soc,
     )
 
 

@@ -52,11 +52,11 @@ def qp_step(problem: Problem, options: Options, st: State, rho: float) -> tuple[
         st.B = st.B.convexified()
         qp = solve_subproblem(st.B, st.der.g, nl, lin, *box, **kw)
     rows = problem.nonlinear
-    v0 = float(np.sum(st.pt.v))
+    v0 = float(st.pt.v.sum())
     if qp.found and v0 > 0.1 * options.tol and len(options.backends) > 1 and not qp.elastic:
         # a consistent linearisation is met exactly by the QP's step; an answer that leaves the (small) violation
         # where it was hides inside the backend's own feasibility tolerance (DAQP: 1e-6): ask the next backend
-        v1 = float(np.sum(rows.violation(st.pt.c + st.der.J @ qp.d)))
+        v1 = float(rows.violation(st.pt.c + st.der.J @ qp.d).sum())
         if v1 > 0.5 * v0:
             other = solve_subproblem(st.B, st.der.g, nl, lin, *_box(problem, options, x),
                                      backends=options.backends[1:], initvals=kw["initvals"])

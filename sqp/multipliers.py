@@ -57,7 +57,7 @@ def newton_multipliers(problem: Problem, st: State, qp: QPStep, rows: Array, wei
         lam_lin[eq] -= weight * np.asarray(problem.A[eq] @ qp.d).ravel()
     # (the constructor, not dataclasses.replace: a third of its cost)
     return QPStep(d=qp.d, lam_nl=lam_nl, lam_lin=lam_lin, z=qp.z, found=qp.found, elastic=qp.elastic, slack=qp.slack,
-                  status=qp.status)
+                  status=qp.status, v_lin=qp.v_lin)
 
 
 def nonlinear_lagrangian_gradient(problem: Problem, der: Derivatives, qp: QPStep) -> Array:

@@ -69,6 +69,9 @@ class QPStep:
         Sum of elastic slacks (0 for the ordinary QP): the linearised violation the step leaves.
     status : str
         Short description for the iteration table.
+    v_lin : ndarray or None
+        The nonlinear rows' violations linearised at the step, ``v(c + J d)``, when :func:`sqp.step.qp_step` computed
+        them (the penalty update and the line search read them); None otherwise.
     """
 
     d: Array
@@ -79,6 +82,7 @@ class QPStep:
     elastic: bool
     slack: float
     status: str
+    v_lin: Array | None = None
 
 
 #: What a QP backend raises when it fails a subproblem (qpsolvers' own errors; quadprog's ValueError on an indefinite
@@ -136,9 +140,13 @@ def _row_multipliers(rows: Rows, y: Array, z: Array, where: tuple[int, ...]) -> 
     """Per-row multipliers in the engine convention from qpsolvers' ``y`` (equalities) and ``z`` (``G d <= h``)."""
     i_eq, i_lo, i_up = where
     lam = np.zeros(rows.lb.size)
-    lam[rows.eq] = -y[i_eq : i_eq + rows.eq.size]
-    lam[rows.lower] += z[i_lo : i_lo + rows.lower.size]
-    lam[rows.upper] -= z[i_up : i_up + rows.upper.size]
+    # (each kind only when present: an update on no rows is a no-op, and costs a microsecond)
+    if rows.eq.size:
+        lam[rows.eq] = -y[i_eq : i_eq + rows.eq.size]
+    if rows.lower.size:
+        lam[rows.lower] += z[i_lo : i_lo + rows.lower.size]
+    if rows.upper.size:
+        lam[rows.upper] -= z[i_up : i_up + rows.upper.size]
     return lam
 
 

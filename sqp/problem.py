@@ -106,10 +106,19 @@ class Rows:
         """Inequality rows with no finite upper side (a negative multiplier there has the wrong sign)."""
         return np.flatnonzero((self.lb != self.ub) & ~np.isfinite(self.ub))
 
+    @cached_property
+    def finite_equalities(self) -> bool:
+        """Whether every row is an equality with a finite side (:meth:`violation`'s shortcut)."""
+        return bool(self.eq.size == self.lb.size and np.isfinite(self.lb).all())
+
     def violation(self, r: Array) -> Array:
         """Row-wise violation ``max(lb - r, r - ub, 0)`` (``|r - lb|`` for equalities)."""
         if self.lb.size == 0:
             return np.zeros(0)
+        if self.finite_equalities:
+            # (the same numbers: r - lb is exactly -(lb - r), so the maximum of the two and 0 is |r - lb|; a finite
+            # lb raises no invalid-operation flag)
+            return np.abs(r - self.lb)
         with np.errstate(invalid="ignore"):
             return np.maximum(np.maximum(self.lb - r, r - self.ub), 0.0)
 

@@ -104,13 +104,13 @@ def _stack_rows(parts: list[LinearisedRows], n: int) -> tuple[Any, Array, Any, A
         r = part.rows
         M = part.M
         if r.eq.size:
-            E_list.append(M[r.eq])
+            E_list.append(_rows_of(M, r.eq))
             e_list.append(part.lo[r.eq])
         if r.lower.size:
-            G_list.append(-M[r.lower])
+            G_list.append(-_rows_of(M, r.lower))
             h_list.append(-part.lo[r.lower])
         if r.upper.size:
-            G_list.append(M[r.upper])
+            G_list.append(_rows_of(M, r.upper))
             h_list.append(part.hi[r.upper])
         where.append((n_eq, n_in, n_in + r.lower.size))
         n_eq += r.eq.size
@@ -120,6 +120,14 @@ def _stack_rows(parts: list[LinearisedRows], n: int) -> tuple[Any, Array, Any, A
     e = _concatenate(e_list)
     h = _concatenate(h_list)
     return E, e, G, h, where
+
+
+def _rows_of(M: Any, index: NDArray[np.intp]) -> Any:
+    """``M[index]``; a sparse ``M`` itself when ``index`` lists all its rows (sorted and distinct: every row, in
+    order), which :func:`_vstack` copies anyway (a sparse row selection costs ~0.1 ms at a thousand rows)."""
+    if sp.issparse(M) and index.size == M.shape[0]:
+        return M
+    return M[index]
 
 
 def _concatenate(parts: list[Array]) -> Array:

@@ -42,7 +42,7 @@ def _check_x0(x0: Any) -> Array:
     if x.ndim != 1 or x.size == 0:
         raise ValueError(f"x0 has shape {x.shape}; expected a scalar or a non-empty 1-D array (n,). Pass one value "
                          "per variable.")
-    if not np.all(np.isfinite(x)):
+    if not np.isfinite(x).all():
         raise ValueError(f"x0 has non-finite entries at indices {np.flatnonzero(~np.isfinite(x)).tolist()}; "
                          "start from finite values.")
     return x

@@ -82,7 +82,7 @@ class Monitor:
         self.least = (maxcv, pt.x)  # the least violation reached, and where
         self.least_trace = [maxcv]  # the least violation after each iteration
         self.elastic_run = 0  # consecutive iterations whose QP was elastic
-        self.origin = Origin(f=pt.f, x_scale=max(1.0, float(np.max(np.abs(pt.x), initial=0.0))))
+        self.origin = Origin(f=pt.f, x_scale=max(1.0, inf_norm(pt.x)))
         #: The KKT residuals at the current point with the last QP's multipliers (set by :meth:`after_qp`).
         self.kkt = KKTResiduals.unknown()
         # the last residuals computed, with the point and QP they belong to (:meth:`residuals`)

@@ -284,10 +284,20 @@ class Problem:
 
     def slsqp_multipliers(self, per_constraint: list[Array]) -> Array:
         """The multipliers as scipy's SLSQP returns them (:attr:`slsqp_rows`) from one array per constraint."""
-        index, sign, two_sided = self.slsqp_rows
         flat = np.concatenate(per_constraint) if per_constraint else np.zeros(0)
+        if self._slsqp_order_is_given:  # (index = all rows in order, sign = 1, none two-sided)
+            return flat
+        index, sign, two_sided = self.slsqp_rows
         out = sign * flat[index]
         return np.where(two_sided, np.maximum(out, 0.0), out) if two_sided.any() else out
+
+    @property
+    def _slsqp_order_is_given(self) -> bool:
+        """Whether SLSQP's multipliers are the constraints' own, in the order given: every constraint an SLSQP dict,
+        all of one type (:meth:`_slsqp_rows_of_dicts` lists the ``eq`` ones first)."""
+        if self.linear_sizes or not all(b.dict_style for b in self.blocks):
+            return False
+        return len({bool(b.ub[0] < np.inf) for b in self.blocks if b.size}) <= 1
 
     def split_multipliers(self, lam_lin: Array, lam_nl: Array) -> list[Array]:
         """The stacked row multipliers as one array per user constraint, in the order given."""

@@ -98,3 +98,14 @@ def test_start_values_are_reused_once_and_change_nothing(kind):
     np.testing.assert_array_equal(reused.x, fresh.x)
     assert (reused.nit, reused.nfev, reused.njev) == (fresh.nit, fresh.nfev, fresh.njev)
     np.testing.assert_array_equal(reused.multipliers, fresh.multipliers)
+
+
+@pytest.mark.parametrize("kinds", [("eq", "eq"), ("ineq",), ("ineq", "ineq", "ineq"), ("eq", "ineq")])
+def test_slsqp_multipliers_of_dicts_of_one_type_are_the_constraints_own(kinds):
+    cons = [{"type": k, "fun": (lambda x, i=i: np.array([x[0] - i, x[1] + i]))} for i, k in enumerate(kinds)]
+    problem = build_problem(lambda x: x @ x, np.ones(3), None, None, cons)
+    per = [np.array([1.5 * i - 1.0, -0.25 * i]) for i in range(len(kinds))]
+    index, sign, two = problem.slsqp_rows
+    np.testing.assert_array_equal(problem.slsqp_multipliers(per),
+                                  np.where(two, np.maximum(sign * np.concatenate(per)[index], 0.0),
+                                           sign * np.concatenate(per)[index]))

@@ -54,7 +54,7 @@ def qp_step(problem: Problem, options: Options, st: State, rho: float) -> tuple[
     rows = problem.nonlinear
     v0 = float(st.pt.v.sum())
     if qp.found and rows.lb.size:
-        qp = replace(qp, v_lin=linearised_violation(problem, st, qp.d))
+        qp = qp.with_violation(linearised_violation(problem, st, qp.d))
     if qp.found and v0 > 0.1 * options.tol and len(options.backends) > 1 and not qp.elastic:
         # a consistent linearisation is met exactly by the QP's step; an answer that leaves the (small) violation
         # where it was hides inside the backend's own feasibility tolerance (DAQP: 1e-6): ask the next backend
@@ -76,7 +76,7 @@ def qp_step(problem: Problem, options: Options, st: State, rho: float) -> tuple[
                               **kw)
         if not qp.found:
             return qp, rho
-        qp = replace(qp, v_lin=linearised_violation(problem, st, qp.d))
+        qp = qp.with_violation(linearised_violation(problem, st, qp.d))
         if rho >= MAX_ELASTIC_PENALTY:
             return qp, rho
         v1 = float(np.sum(qp.v_lin))

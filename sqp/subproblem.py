@@ -84,6 +84,11 @@ class QPStep:
     status: str
     v_lin: Array | None = None
 
+    def with_violation(self, v_lin: Array) -> QPStep:
+        """This answer carrying ``v_lin`` (the constructor: a third of ``dataclasses.replace``'s cost)."""
+        return QPStep(d=self.d, lam_nl=self.lam_nl, lam_lin=self.lam_lin, z=self.z, found=self.found,
+                      elastic=self.elastic, slack=self.slack, status=self.status, v_lin=v_lin)
+
 
 #: What a QP backend raises when it fails a subproblem (qpsolvers' own errors; quadprog's ValueError on an indefinite
 #: or inconsistent problem, numpy's LinAlgError, a C extension's RuntimeError, an overflow). Anything else, a
@@ -147,6 +152,8 @@ def _vstack(blocks: list[Any], n: int) -> Any:
 def _row_multipliers(rows: Rows, y: Array, z: Array, where: tuple[int, ...]) -> Array:
     """Per-row multipliers in the engine convention from qpsolvers' ``y`` (equalities) and ``z`` (``G d <= h``)."""
     i_eq, i_lo, i_up = where
+    if rows.eq.size == rows.lb.size:  # (equalities only: their multipliers in order)
+        return -y[i_eq : i_eq + rows.eq.size]
     lam = np.zeros(rows.lb.size)
     # (each kind only when present: an update on no rows is a no-op, and costs a microsecond)
     if rows.eq.size:

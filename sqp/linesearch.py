@@ -76,7 +76,7 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
     nonfinite: str | None = None
     tried = alpha
     while alpha >= MIN_STEP_LENGTH:
-        trial = trial_point(problem, ev, st.pt.x, alpha * d)
+        trial = trial_point(problem, ev, st.pt.x, d if alpha == 1.0 else alpha * d)  # (1.0 * d is d)
         if (trial.x == st.pt.x).all():
             # the step is below the rounding level of x: no progress is possible along d
             return Search(alpha=tried, nonfinite=nonfinite, mu=mu)

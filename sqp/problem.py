@@ -81,6 +81,8 @@ class Rows:
         if lb.size == 0:
             return cls(lb=lb, ub=ub, eq=_NO_ROWS, lower=_NO_ROWS, upper=_NO_ROWS)
         is_eq = lb == ub
+        if is_eq.all():  # (an SLSQP eq dict: every row an equality)
+            return cls(lb=lb, ub=ub, eq=np.arange(lb.size, dtype=np.intp), lower=_NO_ROWS, upper=_NO_ROWS)
         return cls(
             lb=lb,
             ub=ub,

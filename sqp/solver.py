@@ -191,7 +191,7 @@ def minimize(
 
 def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array | None = None) -> Result:
     """Run the SQP iteration on a validated problem, with ``qp_solver="auto"`` resolved for it first."""
-    why = auto_choice(problem.n, problem.sparse_jacobians)[1] if options.qp_solver == AUTO else ""
+    why = auto_choice(problem.n, problem.sparse_jacobians)[1] if options.qp_solver == AUTO and options.verbose else ""
     options = options.for_problem(problem)
     if options.verbose:
         print(f"sqp: {problem.n} variables, qp_solver = {options.qp_solver}" + (f" (auto: {why})" if why else ""))

@@ -21,8 +21,11 @@ Array = NDArray[np.float64]
 
 def al_rows(problem: Problem, lam: Array) -> Array:
     """Nonlinear rows the QP keeps as equalities: the equalities and the inequalities with a nonzero multiplier."""
+    rows = problem.nonlinear
+    if rows.eq.size == rows.lb.size:  # (every row an equality: all of them, in order)
+        return rows.eq
     # (np.union1d(eq, np.flatnonzero(lam)) without its sort: the same sorted indices from one mask)
-    return np.flatnonzero(problem.nonlinear.is_eq | (lam != 0))
+    return np.flatnonzero(rows.is_eq | (lam != 0))
 
 
 def equality_rows(problem: Problem, J: Any, rows: Array) -> Any:

@@ -70,8 +70,7 @@ class QPStep:
     status : str
         Short description for the iteration table.
     v_lin : ndarray or None
-        The nonlinear rows' violations linearised at the step, ``v(c + J d)``, when :func:`sqp.step.qp_step` computed
-        them (the penalty update and the line search read them); None otherwise.
+        The nonlinear rows' violations linearised at the step, ``v(c + J d)``, set by :func:`sqp.step.qp_step`.
     """
 
     d: Array
@@ -83,11 +82,6 @@ class QPStep:
     slack: float
     status: str
     v_lin: Array | None = None
-
-    def with_violation(self, v_lin: Array) -> QPStep:
-        """This answer carrying ``v_lin`` (the constructor: a third of ``dataclasses.replace``'s cost)."""
-        return QPStep(d=self.d, lam_nl=self.lam_nl, lam_lin=self.lam_lin, z=self.z, found=self.found,
-                      elastic=self.elastic, slack=self.slack, status=self.status, v_lin=v_lin)
 
 
 #: What a QP backend raises when it fails a subproblem (qpsolvers' own errors; quadprog's ValueError on an indefinite
@@ -128,8 +122,7 @@ def _stack_rows(parts: list[LinearisedRows], n: int) -> tuple[Any, Array, Any, A
 
 
 def _rows_of(M: Any, index: NDArray[np.intp]) -> Any:
-    """``M[index]``; a sparse ``M`` itself when ``index`` lists all its rows (sorted and distinct: every row, in
-    order), which :func:`_vstack` copies anyway (a sparse row selection costs ~0.1 ms at a thousand rows)."""
+    """``M[index]``; a sparse ``M`` itself when ``index`` is all its rows (:func:`_vstack` copies it anyway)."""
     if sp.issparse(M) and index.size == M.shape[0]:
         return M
     return M[index]
@@ -155,13 +148,9 @@ def _row_multipliers(rows: Rows, y: Array, z: Array, where: tuple[int, ...]) -> 
     if rows.eq.size == rows.lb.size:  # (equalities only: their multipliers in order)
         return -y[i_eq : i_eq + rows.eq.size]
     lam = np.zeros(rows.lb.size)
-    # (each kind only when present: an update on no rows is a no-op, and costs a microsecond)
-    if rows.eq.size:
-        lam[rows.eq] = -y[i_eq : i_eq + rows.eq.size]
-    if rows.lower.size:
-        lam[rows.lower] += z[i_lo : i_lo + rows.lower.size]
-    if rows.upper.size:
-        lam[rows.upper] -= z[i_up : i_up + rows.upper.size]
+    lam[rows.eq] = -y[i_eq : i_eq + rows.eq.size]
+    lam[rows.lower] += z[i_lo : i_lo + rows.lower.size]
+    lam[rows.upper] -= z[i_up : i_up + rows.upper.size]
     return lam
 
 

@@ -2,7 +2,8 @@
 
 :func:`build_problem` stacks the user's constraints (SLSQP dicts, ``NonlinearConstraint`` and ``LinearConstraint``)
 into nonlinear and linear rows, clips the start into the bounds and evaluates every user function once at the start
-to catch wrong shapes early; it also records the structure the QP backend choice (``qp_solver="auto"``) reads.
+to catch wrong shapes early (the solve's first evaluation of the start reuses those values:
+:class:`~sqp.problem.StartValues`); it also records the structure the QP backend choice (``qp_solver="auto"``) reads.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from numpy.typing import NDArray
 from scipy.optimize import Bounds, LinearConstraint, NonlinearConstraint
 
 from sqp.derivatives import FD_METHODS, FiniteDifferences
-from sqp.problem import NonlinearBlock, Problem, Rows, call_user, check_jacobian_shape
+from sqp.problem import NonlinearBlock, Problem, Rows, StartValues, call_user, check_jacobian_shape
 
 Array = NDArray[np.float64]
 
@@ -41,7 +42,7 @@ def _check_x0(x0: Any) -> Array:
     if x.ndim != 1 or x.size == 0:
         raise ValueError(f"x0 has shape {x.shape}; expected a scalar or a non-empty 1-D array (n,). Pass one value "
                          "per variable.")
-    if not np.all(np.isfinite(x)):
+    if not np.isfinite(x).all():
         raise ValueError(f"x0 has non-finite entries at indices {np.flatnonzero(~np.isfinite(x)).tolist()}; "
                          "start from finite values.")
     return x
@@ -95,8 +96,8 @@ def _check_bounds(bounds: Any, n: int) -> tuple[Array, Array]:
 
 
 def _start_values(name: str, fun: Callable[[Array], Any], x0: Array) -> Array:
-    """A constraint function's values at the start: it must return a scalar or a 1-D array."""
-    arr = np.asarray(call_user(name, fun, x0, AT_START), dtype=float)
+    """A constraint function's values at the start (a copy): it must return a scalar or a 1-D array."""
+    arr = np.array(call_user(name, fun, x0, AT_START), dtype=float)
     if arr.ndim > 1:
         raise ValueError(f"{name} returned an array of shape {arr.shape} at x0; a constraint function must return a "
                          "scalar or a 1-D array (m,).")
@@ -114,7 +115,8 @@ def _constraint_side(value: Any, m: int, side: str, con_name: str, fun_name: str
     return arr
 
 
-def _dict_block(con: dict[str, Any], i: int, x0: Array) -> NonlinearBlock:
+def _dict_block(con: dict[str, Any], i: int, x0: Array) -> tuple[NonlinearBlock, Array]:
+    """The block of an SLSQP dict and its values at ``x0``."""
     kind = con.get("type")
     if kind not in ("eq", "ineq"):
         raise ValueError(f"constraints[{i}]['type'] = {kind!r}; expected 'eq' or 'ineq' ('ineq' means fun(x) >= 0).")
@@ -133,22 +135,25 @@ def _dict_block(con: dict[str, Any], i: int, x0: Array) -> NonlinearBlock:
     hess = con.get("hess")
     if hess is not None and not callable(hess):
         raise TypeError(f"constraints[{i}]['hess'] must be callable: hess(x, v) = sum_i v_i * Hessian of row i.")
-    m = _start_values(f"constraints[{i}]['fun']", f, x0).size
+    c0 = _start_values(f"constraints[{i}]['fun']", f, x0)
+    m = c0.size
     lb = np.zeros(m)
     ub = np.zeros(m) if kind == "eq" else np.full(m, np.inf)
-    return NonlinearBlock(fun=f, jac=j, lb=lb, ub=ub, hess=hess, name=f"constraints[{i}]", dict_style=True)
+    return NonlinearBlock(fun=f, jac=j, lb=lb, ub=ub, hess=hess, name=f"constraints[{i}]", dict_style=True), c0
 
 
-def _nonlinear_object_block(con: NonlinearConstraint, i: int, x0: Array) -> NonlinearBlock:
+def _nonlinear_object_block(con: NonlinearConstraint, i: int, x0: Array) -> tuple[NonlinearBlock, Array]:
+    """The block of a ``NonlinearConstraint`` and its values at ``x0``."""
     name = f"constraints[{i}]"
-    m = _start_values(f"{name}.fun", con.fun, x0).size
+    c0 = _start_values(f"{name}.fun", con.fun, x0)
+    m = c0.size
     jac = con.jac if callable(con.jac) else None
     lb = _constraint_side(con.lb, m, "lb", name, f"{name}.fun")
     ub = _constraint_side(con.ub, m, "ub", name, f"{name}.fun")
     if np.any(lb > ub):
         raise ValueError(f"constraints[{i}] has lb > ub in rows {np.flatnonzero(lb > ub).tolist()}.")
     hess = con.hess if callable(con.hess) else None
-    return NonlinearBlock(fun=con.fun, jac=jac, lb=lb, ub=ub, hess=hess, name=name, dict_style=False)
+    return NonlinearBlock(fun=con.fun, jac=jac, lb=lb, ub=ub, hess=hess, name=name, dict_style=False), c0
 
 
 def build_problem(
@@ -189,12 +194,16 @@ def build_problem(
         raise TypeError(f"jac must be callable, True (fun returns (f, g)), None/False or one of {FD_METHODS}; "
                         f"got {jac!r}.")
     lower, upper = _check_bounds(bounds, n)
-    xs = np.clip(x, lower, upper)
-    clipped = np.flatnonzero(xs != x)
+    if bounds is None:  # (x is this function's own copy; nothing to clip)
+        xs, clipped = x, np.zeros(0, dtype=np.intp)
+    else:
+        xs = np.clip(x, lower, upper)
+        clipped = np.flatnonzero(xs != x)
 
     if isinstance(constraints, dict | LinearConstraint | NonlinearConstraint):
         constraints = (constraints,)
     blocks: list[NonlinearBlock] = []
+    c0: list[Array] = []
     lin_A: list[Any] = []
     lin_lb: list[Array] = []
     lin_ub: list[Array] = []
@@ -214,11 +223,11 @@ def build_problem(
             lin_lb.append(lb)
             lin_ub.append(ub)
             kinds.append("linear")
-        elif isinstance(con, NonlinearConstraint):
-            blocks.append(_nonlinear_object_block(con, i, xs))
-            kinds.append("nonlinear")
-        elif isinstance(con, dict):
-            blocks.append(_dict_block(con, i, xs))
+        elif isinstance(con, NonlinearConstraint | dict):
+            block, values = (_nonlinear_object_block if isinstance(con, NonlinearConstraint) else _dict_block)(
+                con, i, xs)
+            blocks.append(block)
+            c0.append(values)
             kinds.append("nonlinear")
         else:
             raise TypeError(f"constraints[{i}] is a {type(con).__name__}; expected a dict "
@@ -245,7 +254,7 @@ def build_problem(
         hess_f = (lambda z: hess(z, *args)) if args else hess
     else:
         hess_f = None
-    sparse_rows = _check_shapes(f, grad, blocks, xs)
+    start = _check_shapes(f, grad, blocks, xs, c0)
     return Problem(
         fun=f,
         grad=grad,
@@ -261,7 +270,8 @@ def build_problem(
         hess=hess_f,
         differences=differences,
         x0_clipped=clipped,
-        sparse_jacobians=sparse_rows and all(sp.issparse(a) for a in lin_A),
+        sparse_jacobians=all(J is not None and sp.issparse(J) for J in start.J) and all(sp.issparse(a) for a in lin_A),
+        start=start,
     )
 
 
@@ -292,24 +302,22 @@ class ValueAndGradient:
 
 
 def _check_shapes(fun: Callable[[Array], Any], grad: Callable[[Array], Any] | None,
-                  blocks: list[NonlinearBlock], x: Array) -> bool:
+                  blocks: list[NonlinearBlock], x: Array, c0: list[Array]) -> StartValues:
     """Evaluate the objective, its gradient and the constraint Jacobians once at the (clipped) start ``x`` to catch
     non-scalar objectives and wrong shapes early.
 
-    Returns whether every nonlinear constraint's Jacobian there is a scipy.sparse matrix."""
+    Returns what they gave, with the constraint values ``c0`` (copies: a function that reuses its output buffer
+    cannot change them), for the solve's first evaluation of ``x``."""
     n = x.size
-    f = np.asarray(call_user("fun", fun, x, AT_START))
+    f = np.array(call_user("fun", fun, x, AT_START))
     if f.size != 1:
         raise ValueError(f"fun returned an array of shape {f.shape}; it must return a scalar (the objective value).")
+    g = None
     if grad is not None:
-        g = np.asarray(call_user("jac", grad, x, AT_START), dtype=float)
+        g = np.array(call_user("jac", grad, x, AT_START), dtype=float)
         if g.shape != (n,):
             raise ValueError(f"jac returned shape {g.shape}; expected ({n},): the gradient of fun.")
-    sparse = True
-    for block in blocks:
-        if block.jac is None:  # finite differences: dense
-            sparse = False
-        else:
-            sparse &= sp.issparse(check_jacobian_shape(block, call_user(block.part("jac"), block.jac, x, AT_START),
-                                                       n, "x0"))
-    return sparse
+    J = tuple(None if block.jac is None  # (finite differences: dense, evaluated by the solve)
+              else check_jacobian_shape(block, call_user(block.part("jac"), block.jac, x, AT_START), n, "x0").copy()
+              for block in blocks)
+    return StartValues(x=x, f=f, g=g, c=tuple(c0), J=J)

@@ -37,7 +37,8 @@ class HessianStrategy(Protocol):
     (:meth:`multipliers`) and after an accepted step (:meth:`update`)."""
 
     def initial(self, st: State) -> Any:
-        """``B`` before the first iteration, at the start ``st`` (whose ``B`` is not yet set)."""
+        """``B`` before the first iteration, at the start ``st`` (whose ``B`` is not yet set); None when :meth:`model`
+        builds every ``B`` itself."""
         ...
 
     def model(self, ev: Evaluator, st: State) -> Any:
@@ -111,8 +112,8 @@ class ConvexifiedExact:
         self.rows: Array = np.zeros(0, dtype=np.intp)
 
     def initial(self, st: State) -> Any:
-        # (replaced before its first use: no dense n x n identity for a large sparse problem)
-        return sp.identity(self.problem.n, format="csc")
+        # (no matrix: :meth:`model` builds one from the exact Hessian before the first QP)
+        return None
 
     def model(self, ev: Evaluator, st: State) -> Any:
         lam = st.qp.lam_nl if st.qp is not None else self.lam0

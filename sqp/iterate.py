@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -11,7 +12,7 @@ from numpy.typing import NDArray
 
 from sqp.hessian import DENSE_LIMIT
 from sqp.kkt import max_violation
-from sqp.problem import NonlinearBlock, Problem, call_user, check_jacobian_shape
+from sqp.problem import NonlinearBlock, Problem, StartValues, call_user, check_jacobian_shape
 from sqp.subproblem import QPStep
 
 Array = NDArray[np.float64]
@@ -58,10 +59,15 @@ class Evaluator:
     function and the iteration ``nit`` (set by the solver: iteration ``k`` is the work that produces the ``k``-th
     iterate, from the Hessian and QP at ``x_{k-1}`` to the derivatives at the accepted point; 0 is the start). A
     function whose output changes size or shape during the solve is a ValueError naming it.
+
+    The first evaluation of the start (:meth:`point` and :meth:`derivatives` at ``problem.start.x``) takes the values
+    the input checks computed there (:class:`~sqp.problem.StartValues`) instead of calling the user's functions
+    again, and counts them as if it had called them.
     """
 
     def __init__(self, problem: Problem) -> None:
         self.problem = problem
+        self._start = problem.start  # (dropped once the start's derivatives are taken)
         self.nfev = 0
         self.njev = 0
         self.nhev = 0
@@ -73,17 +79,23 @@ class Evaluator:
     def where(self) -> str:
         return f"iteration {self.nit}"
 
-    def _f(self, x: Array) -> float:
+    def _at_start(self, x: Array) -> StartValues | None:
+        """The values computed at the start when ``x`` is that point and they have not been used up, else None."""
+        start = self._start
+        return start if start is not None and np.array_equal(x, start.x) else None
+
+    def _f(self, x: Array, start: StartValues | None = None) -> float:
         self.nfev += 1
-        val = np.asarray(call_user("fun", self.problem.fun, x, self.where), dtype=float)
+        out = start.f if start is not None else call_user("fun", self.problem.fun, x, self.where)
+        val = np.asarray(out, dtype=float)
         if val.size != 1:
             raise ValueError(f"fun returned an array of shape {val.shape} at {self.where}; it must return a scalar "
                              "(the objective value).")
         return float(val.reshape(-1)[0])
 
-    def _c(self, block: NonlinearBlock, x: Array) -> Array:
+    def _c(self, block: NonlinearBlock, x: Array, value: Array | None = None) -> Array:
         name = block.part("fun")
-        val = np.asarray(call_user(name, block.fun, x, self.where), dtype=float)
+        val = np.asarray(call_user(name, block.fun, x, self.where) if value is None else value, dtype=float)
         if val.ndim > 1 or val.size != block.size:
             raise ValueError(f"{name} returned {val.size} value(s) (shape {val.shape}) at {self.where}; it returned "
                              f"{block.size} at x0. A constraint function must return the same number of values at "
@@ -99,8 +111,10 @@ class Evaluator:
         """A constraint's values as a finite-difference scheme sees them (complex for ``'cs'``)."""
         return np.atleast_1d(np.asarray(call_user(block.part("fun"), block.fun, x, self.where))).ravel()
 
-    def _jac(self, block: NonlinearBlock, x: Array) -> Any:
+    def _jac(self, block: NonlinearBlock, x: Array, value: Any = None) -> Any:
         p = self.problem
+        if value is not None:  # (the start's, checked already)
+            return value
         if block.jac is None:
             J = p.differences.jacobian(lambda z: self._c_raw(block, z), x, p.lower, p.upper)
             if J.shape != (block.size, x.size):
@@ -113,11 +127,13 @@ class Evaluator:
     def point(self, x: Array) -> Point:
         """Evaluate ``f``, the nonlinear rows and the linear rows at ``x``."""
         p = self.problem
-        f = self._f(x)
+        start = self._at_start(x)
+        f = self._f(x, start)
         # (the stacking copies the user's arrays: a function that reuses its output buffer cannot change a Point)
-        c = np.concatenate([self._c(b, x) for b in p.blocks]) if p.blocks else _EMPTY
+        c = np.concatenate([self._c(b, x, None if start is None else start.c[i])
+                            for i, b in enumerate(p.blocks)]) if p.blocks else _EMPTY
         r = np.asarray(p.A @ x, dtype=float).ravel() if p.A.shape[0] else _EMPTY
-        finite = bool(np.isfinite(f) and np.isfinite(c).all())
+        finite = math.isfinite(f) and bool(np.isfinite(c).all())
         v = p.nonlinear.violation(c)
         return Point(x=x, f=f, c=c, r=r, v=v, maxcv=max_violation(p, x, c, r, v), finite=finite)
 
@@ -126,16 +142,23 @@ class Evaluator:
         p = self.problem
         x = pt.x
         self.njev += 1
+        start = self._at_start(x)
+        self._start = None
         if p.grad is None:
             g = p.differences.jacobian(self._f_raw, x, p.lower, p.upper, f0=pt.f)[0]
         else:
-            g = np.asarray(call_user("jac", p.grad, x, self.where), dtype=float)
+            # (the start's gradient copied: it serves a restart's evaluator too)
+            g = (np.array(start.g, dtype=float) if start is not None
+                 else np.asarray(call_user("jac", p.grad, x, self.where), dtype=float))
             if g.shape != (x.size,):
                 raise ValueError(f"jac returned shape {g.shape} at {self.where}; expected ({x.size},): the gradient "
                                  "of fun.")
         if p.blocks:
-            parts = [self._jac(b, x) for b in p.blocks]
-            J = sp.vstack(parts, format="csr") if any(sp.issparse(m) for m in parts) else np.vstack(parts)
+            parts = [self._jac(b, x, None if start is None else start.J[i]) for i, b in enumerate(p.blocks)]
+            if len(parts) == 1:  # (a copy, as the stacking of several: the user may reuse the array)
+                J = sp.vstack(parts, format="csr") if sp.issparse(parts[0]) else parts[0].copy()
+            else:
+                J = sp.vstack(parts, format="csr") if any(sp.issparse(m) for m in parts) else np.vstack(parts)
         else:
             J = np.zeros((0, x.size))
         return Derivatives(g=g, J=J)
@@ -182,7 +205,7 @@ class Evaluator:
         for block in p.blocks:
             v = lam_nl[start : start + block.size]
             start += block.size
-            if not np.any(v):
+            if not v.any():
                 continue
             assert block.hess is not None
             name = block.part("hess")
@@ -202,7 +225,7 @@ class Evaluator:
         if H.shape != (n, n):
             raise ValueError(f"{name} returned shape {H.shape} at {self.where}; expected ({n}, {n}).")
         data = H.data if sp.issparse(H) else H
-        if self.hessian_nonfinite is None and not np.all(np.isfinite(data)):
+        if self.hessian_nonfinite is None and not np.isfinite(data).all():
             self.hessian_nonfinite = name
         return H
 
@@ -216,10 +239,11 @@ def _as_format(H: Any, dense: bool) -> Any:
 
 @dataclass
 class State:
-    """The handful of values carried from one iteration to the next."""
+    """The handful of values carried from one iteration to the next (``B`` is None before an exact-Hessian solve's
+    first model)."""
 
     pt: Point
     der: Derivatives
-    B: Array
+    B: Any
     mu: Array
     qp: QPStep | None = None

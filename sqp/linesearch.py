@@ -45,18 +45,21 @@ class Search:
     mu: Array | None = None
 
 
-def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d: Array, mu: Array) -> Search:
+def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d: Array, mu: Array,
+                v_lin: Array | None = None) -> Search:
     """Armijo backtracking on the L1 merit function with penalties ``mu``, with one second-order correction of the
     full step.
 
     A point is accepted only when its values and its derivatives are finite: NaN or inf from any user function
     (objective, constraint, gradient or Jacobian) at a trial point shortens the step. Fails (``pt is None``) when no
     step length down to :data:`MIN_STEP_LENGTH` decreases the merit function enough. ``mu`` is not modified.
+    ``v_lin``: the rows' violations linearised at ``d`` (:attr:`~sqp.subproblem.QPStep.v_lin`), when known.
     """
     rows = problem.nonlinear
     # (the violations at x and of the linearisation at x + d, once: merit(), directional_derivative() in one)
     v0 = st.pt.v
-    v_lin = rows.violation(st.pt.c + st.der.J @ d)
+    if v_lin is None:
+        v_lin = rows.violation(st.pt.c + st.der.J @ d)
     gd = float(st.der.g @ d)
     phi0 = float(st.pt.f + mu @ v0)
     D = float(gd + mu @ (v_lin - v0))
@@ -73,8 +76,8 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
     nonfinite: str | None = None
     tried = alpha
     while alpha >= MIN_STEP_LENGTH:
-        trial = trial_point(problem, ev, st.pt.x, alpha * d)
-        if np.array_equal(trial.x, st.pt.x):
+        trial = trial_point(problem, ev, st.pt.x, d if alpha == 1.0 else alpha * d)  # (1.0 * d is d)
+        if (trial.x == st.pt.x).all():
             # the step is below the rounding level of x: no progress is possible along d
             return Search(alpha=tried, nonfinite=nonfinite, mu=mu)
         tried = alpha
@@ -100,11 +103,11 @@ def merit_search(problem: Problem, options: Options, ev: Evaluator, st: State, q
     """:func:`line_search` along ``qp.d`` with the penalties ``mu``; when it fails with penalties above
     :data:`PENALTY_RESET_FACTOR` times the QP's largest multiplier, once more with the penalties restarted from the
     QP's multipliers (Eq. 13 from scratch)."""
-    search = line_search(problem, options, ev, st, qp.d, mu)
+    search = line_search(problem, options, ev, st, qp.d, mu, qp.v_lin)
     assert search.mu is not None
     if search.pt is None and np.max(search.mu, initial=0.0) > PENALTY_RESET_FACTOR * max(
             float(np.max(np.abs(qp.lam_nl), initial=0.0)), 1e-12):
-        search = line_search(problem, options, ev, st, qp.d, np.abs(qp.lam_nl))
+        search = line_search(problem, options, ev, st, qp.d, np.abs(qp.lam_nl), qp.v_lin)
     return search
 
 

@@ -84,6 +84,7 @@ def penalties(problem: Problem, st: State, qp: QPStep) -> Array:
     mu = update_penalty(st.mu, qp.lam_nl)
     if mu.size:
         d, rows = qp.d, problem.nonlinear
-        dv = float(np.sum(st.pt.v) - np.sum(rows.violation(st.pt.c + st.der.J @ d)))
+        v_lin = qp.v_lin if qp.v_lin is not None else rows.violation(st.pt.c + st.der.J @ d)
+        dv = float(st.pt.v.sum() - v_lin.sum())
         mu = np.maximum(mu, descent_penalty(float(st.der.g @ d), float(d @ (st.B @ d)), dv))
     return mu

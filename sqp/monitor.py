@@ -82,9 +82,11 @@ class Monitor:
         self.least = (maxcv, pt.x)  # the least violation reached, and where
         self.least_trace = [maxcv]  # the least violation after each iteration
         self.elastic_run = 0  # consecutive iterations whose QP was elastic
-        self.origin = Origin(f=pt.f, x_scale=max(1.0, float(np.max(np.abs(pt.x), initial=0.0))))
+        self.origin = Origin(f=pt.f, x_scale=max(1.0, inf_norm(pt.x)))
         #: The KKT residuals at the current point with the last QP's multipliers (set by :meth:`after_qp`).
         self.kkt = KKTResiduals.unknown()
+        # the last residuals computed, with the point and QP they belong to (:meth:`residuals`)
+        self._last: tuple[Point, QPStep, KKTResiduals] | None = None
         self.maxcv = maxcv  # the current point's largest violation (one evaluation per point)
 
     def after_qp(self, options: Options, st: State, qp: QPStep, nit: int) -> Stop | None:
@@ -93,7 +95,7 @@ class Monitor:
         if not qp.found:
             return Stop(Status.QP_FAILED, f"Backends tried: {', '.join(name for name, _ in options.backends)} "
                                           f"(last answer: {qp.status}) at iteration {nit}.")
-        kkt = kkt_at(self.problem, st, self.maxcv)
+        kkt = self._kkt_at(st, self.maxcv)
         if at_step_bound(options, qp.d):  # the bound's multipliers hide in z: no KKT certificate from this QP
             kkt = replace(kkt, stationarity=np.inf)
         self.kkt = kkt
@@ -155,10 +157,25 @@ class Monitor:
         early = CONFIRMED_TOLERANCE * self.tol
         assert st.qp is not None
         if (maxcv <= early * max(1.0, inf_norm(st.pt.x))  # (the feasibility test first)
-                and not at_step_bound(options, st.qp.d) and kkt_at(self.problem, st, maxcv).satisfied(early)
+                and not at_step_bound(options, st.qp.d) and self._kkt_at(st, maxcv).satisfied(early)
                 and loaded_rows_active(self.problem, st, early)):
             return Stop(Status.SUCCESS)
         return None
+
+    def residuals(self, st: State) -> KKTResiduals | None:
+        """The KKT residuals at ``st`` with its QP's multipliers when a test computed them already (the result reports
+        them), else None."""
+        if self._last is None:
+            return None
+        pt, qp, kkt = self._last
+        return kkt if st.pt is pt and st.qp is qp and kkt.feasibility == pt.maxcv else None
+
+    def _kkt_at(self, st: State, maxcv: float) -> KKTResiduals:
+        """:func:`~sqp.termination.kkt_at`, remembered for :meth:`residuals`."""
+        kkt = kkt_at(self.problem, st, maxcv)
+        assert st.qp is not None
+        self._last = (st.pt, st.qp, kkt)
+        return kkt
 
     def detail(self, stop: Stop) -> Stop:
         """``stop`` with the least violation reached in its detail when it is INFEASIBLE."""

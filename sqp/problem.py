@@ -81,6 +81,8 @@ class Rows:
         if lb.size == 0:
             return cls(lb=lb, ub=ub, eq=_NO_ROWS, lower=_NO_ROWS, upper=_NO_ROWS)
         is_eq = lb == ub
+        if is_eq.all():  # (an SLSQP eq dict: every row an equality)
+            return cls(lb=lb, ub=ub, eq=np.arange(lb.size, dtype=np.intp), lower=_NO_ROWS, upper=_NO_ROWS)
         return cls(
             lb=lb,
             ub=ub,
@@ -88,6 +90,13 @@ class Rows:
             lower=np.flatnonzero(~is_eq & np.isfinite(lb)),
             upper=np.flatnonzero(~is_eq & np.isfinite(ub)),
         )
+
+    @cached_property
+    def is_eq(self) -> NDArray[np.bool_]:
+        """Which rows are equalities (``lb == ub``): the mask of :attr:`eq`."""
+        mask = np.zeros(self.lb.size, dtype=bool)
+        mask[self.eq] = True
+        return mask
 
     @cached_property
     def inequality_without_lower(self) -> NDArray[np.intp]:
@@ -99,12 +108,38 @@ class Rows:
         """Inequality rows with no finite upper side (a negative multiplier there has the wrong sign)."""
         return np.flatnonzero((self.lb != self.ub) & ~np.isfinite(self.ub))
 
+    @cached_property
+    def finite_equalities(self) -> bool:
+        """Whether every row is an equality with a finite side (:meth:`violation`'s shortcut)."""
+        return bool(self.eq.size == self.lb.size and np.isfinite(self.lb).all())
+
     def violation(self, r: Array) -> Array:
         """Row-wise violation ``max(lb - r, r - ub, 0)`` (``|r - lb|`` for equalities)."""
         if self.lb.size == 0:
             return np.zeros(0)
+        if self.finite_equalities:
+            # (the same numbers: r - lb is exactly -(lb - r), so the maximum of the two and 0 is |r - lb|; a finite
+            # lb raises no invalid-operation flag)
+            return np.abs(r - self.lb)
         with np.errstate(invalid="ignore"):
             return np.maximum(np.maximum(self.lb - r, r - self.ub), 0.0)
+
+
+@dataclass(frozen=True)
+class StartValues:
+    """What the user functions returned at the (clipped) start ``x`` when :func:`sqp.build.build_problem` called them
+    to check their shapes (copies, converted as the checks converted them): the solve's first evaluation of that
+    same point reuses them instead of calling again (:class:`sqp.iterate.Evaluator`).
+
+    ``f`` is the objective's value, ``g`` the gradient (None with finite differences); ``c`` and ``J`` hold one entry
+    per nonlinear block, its values and its checked Jacobian (None where it is differenced).
+    """
+
+    x: Array
+    f: Any
+    g: Array | None
+    c: tuple[Array, ...]
+    J: tuple[Any, ...]
 
 
 @dataclass(frozen=True)
@@ -127,6 +162,8 @@ class Problem:
         How the derivatives the user did not give are approximated (SLSQP's rule).
     x0_clipped : ndarray of int
         Indices where the user's ``x0`` lay outside the bounds and was clipped onto them (as SLSQP does, silently).
+    start : StartValues or None
+        The user functions' values at ``x0``, computed while the input was checked.
     sparse_jacobians : bool
         Whether every constraint Jacobian is a scipy.sparse matrix: each nonlinear constraint's ``jac`` at ``x0`` (a
         finite-difference one is dense) and each ``LinearConstraint.A``. True without constraints. Read once, by
@@ -148,6 +185,7 @@ class Problem:
     sparse_jacobians: bool = True
     differences: FiniteDifferences = FiniteDifferences()
     x0_clipped: NDArray[np.intp] = field(default_factory=lambda: np.zeros(0, dtype=np.intp))
+    start: StartValues | None = field(default=None, repr=False, compare=False)
 
     @property
     def n(self) -> int:
@@ -236,19 +274,32 @@ class Problem:
         """:attr:`slsqp_rows` when every constraint is an SLSQP dict (``eq``: ``lb = ub = 0``, ``ineq``: ``lb = 0,
         ub = inf``): the rows of the ``eq`` dicts, then those of the ``ineq`` dicts, each in the order given, with
         sign +1 and none two-sided."""
-        offsets = np.cumsum([0] + [b.size for b in self.blocks])
-        ranges = [np.arange(offsets[k], offsets[k + 1]) for k in range(len(self.blocks))]
-        is_eq = [bool(b.size) and bool(np.isfinite(b.ub[0])) for b in self.blocks]
-        index = np.concatenate([r for r, e in zip(ranges, is_eq, strict=True) if e]
-                               + [r for r, e in zip(ranges, is_eq, strict=True) if not e] + [np.zeros(0, np.intp)])
-        return index.astype(np.intp), np.ones(index.size), np.zeros(index.size, dtype=bool)
+        offsets = [0]
+        for b in self.blocks:
+            offsets.append(offsets[-1] + b.size)
+        ranges = [np.arange(offsets[k], offsets[k + 1], dtype=np.intp) for k in range(len(self.blocks))]
+        is_eq = [bool(b.size) and b.ub[0] < np.inf for b in self.blocks]
+        eq = [r for r, e in zip(ranges, is_eq, strict=True) if e]
+        ineq = [r for r, e in zip(ranges, is_eq, strict=True) if not e]
+        index = eq[0] if len(eq) == 1 and not ineq else np.concatenate(eq + ineq + [np.zeros(0, np.intp)])
+        return index, np.ones(index.size), np.zeros(index.size, dtype=bool)
 
     def slsqp_multipliers(self, per_constraint: list[Array]) -> Array:
         """The multipliers as scipy's SLSQP returns them (:attr:`slsqp_rows`) from one array per constraint."""
-        index, sign, two_sided = self.slsqp_rows
         flat = np.concatenate(per_constraint) if per_constraint else np.zeros(0)
+        if self._slsqp_order_is_given:  # (index = all rows in order, sign = 1, none two-sided)
+            return flat
+        index, sign, two_sided = self.slsqp_rows
         out = sign * flat[index]
-        return np.where(two_sided, np.maximum(out, 0.0), out)
+        return np.where(two_sided, np.maximum(out, 0.0), out) if two_sided.any() else out
+
+    @property
+    def _slsqp_order_is_given(self) -> bool:
+        """Whether SLSQP's multipliers are the constraints' own, in the order given: every constraint an SLSQP dict,
+        all of one type (:meth:`_slsqp_rows_of_dicts` lists the ``eq`` ones first)."""
+        if self.linear_sizes or not all(b.dict_style for b in self.blocks):
+            return False
+        return len({bool(b.ub[0] < np.inf) for b in self.blocks if b.size}) <= 1
 
     def split_multipliers(self, lam_lin: Array, lam_nl: Array) -> list[Array]:
         """The stacked row multipliers as one array per user constraint, in the order given."""

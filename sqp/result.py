@@ -153,9 +153,11 @@ def build_result(
     B: Array | None = None,
     nit: int = 0,
     detail: str = "",
+    kkt: KKTResiduals | None = None,
 ) -> Result:
     """The :class:`Result` of a solve that ended with ``status`` at ``pt`` (None: before the start was evaluated,
-    at ``x``), with the multipliers of ``qp`` and the KKT residuals there."""
+    at ``x``), with the multipliers of ``qp`` and the KKT residuals there (``kkt``, when the loop computed them
+    already)."""
     n = problem.n
     if pt is None:
         xx = problem.x0.copy() if x is None else x
@@ -172,10 +174,9 @@ def build_result(
         violation = pt.maxcv
     else:
         violation = max_violation(problem, xx, c, np.asarray(r).ravel()) if finite else np.inf
-    if der is not None:
-        kkt = kkt_residuals(problem, xx, g, c, der.J, r, lam_nl, lam_lin, z, feasibility=violation)
-    else:
-        kkt = KKTResiduals.unknown()
+    if kkt is None:
+        kkt = (kkt_residuals(problem, xx, g, c, der.J, r, lam_nl, lam_lin, z, feasibility=violation)
+               if der is not None else KKTResiduals.unknown())
     maxcv = violation if finite else np.inf
     per_constraint = problem.split_multipliers(lam_lin, lam_nl)
     message = status.message

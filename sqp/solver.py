@@ -191,7 +191,7 @@ def minimize(
 
 def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array | None = None) -> Result:
     """Run the SQP iteration on a validated problem, with ``qp_solver="auto"`` resolved for it first."""
-    why = auto_choice(problem.n, problem.sparse_jacobians)[1] if options.qp_solver == AUTO else ""
+    why = auto_choice(problem.n, problem.sparse_jacobians)[1] if options.qp_solver == AUTO and options.verbose else ""
     options = options.for_problem(problem)
     if options.verbose:
         print(f"sqp: {problem.n} variables, qp_solver = {options.qp_solver}" + (f" (auto: {why})" if why else ""))
@@ -226,7 +226,7 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
         assert failed is not None
         return failed, False
     hessian = hessian_strategy(problem, B0, lam0)
-    st = replace(st, B=hessian.initial(st))
+    st = State(st.pt, st.der, hessian.initial(st), st.mu)
     monitor = Monitor(problem, options.tol, options.max_iter, st.pt, st.pt.maxcv)
     history: list[IterationRecord] = []
     rho = 0.0  # the elastic QP's slack price
@@ -266,7 +266,7 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
     stop = monitor.detail(stop)
     flat = stop.status in RESTART_STATUSES and flat_violation(problem, st, options.tol)
     return build_result(problem, ev, st.pt, st.der, st.qp, stop.status, history, t_start, B=st.B, nit=len(history),
-                        detail=stop.detail), flat
+                        detail=stop.detail, kkt=monitor.residuals(st)), flat
 
 
 def bounded_steps(options: Options, nit: int) -> Options:
@@ -318,7 +318,7 @@ def _record(problem: Problem, ev: Evaluator, nit: int, st: State, kkt: KKTResidu
     return IterationRecord(
         nit=nit + 1, nfev=ev.nfev, f=st.pt.f, maxcv=st.pt.maxcv,
         kkt=kkt.worst, step=inf_norm(s), alpha=search.alpha,
-        penalty=float(np.max(st.mu, initial=0.0)), qp_status=st.qp.status, damped=damped, soc=search.soc,
+        penalty=float(st.mu.max()) if st.mu.size else 0.0, qp_status=st.qp.status, damped=damped, soc=search.soc,
     )
 
 

@@ -49,7 +49,7 @@ def start_point(problem: Problem, options: Options) -> tuple[Array, Status | Non
     """Clip ``x0`` into the bounds; project it onto the linear rows when they are violated.
 
     When that projection (a QP) fails, an LP decides between LINEAR_INFEASIBLE and a failure of the QP backends."""
-    x = np.clip(problem.x0, problem.lower, problem.upper)
+    x = np.clip(problem.x0, problem.lower, problem.upper) if problem.has_bounds else problem.x0.copy()
     if problem.linear.lb.size == 0 or np.max(problem.linear.violation(problem.A @ x), initial=0.0) <= 1e-12:
         return x, None, ""
     n = problem.n

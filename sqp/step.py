@@ -52,17 +52,21 @@ def qp_step(problem: Problem, options: Options, st: State, rho: float) -> tuple[
         st.B = st.B.convexified()
         qp = solve_subproblem(st.B, st.der.g, nl, lin, *box, **kw)
     rows = problem.nonlinear
-    v0 = float(np.sum(st.pt.v))
+    v0 = float(st.pt.v.sum())
+    if qp.found and rows.lb.size:
+        qp = _with_violation(qp, linearised_violation(problem, st, qp.d))
     if qp.found and v0 > 0.1 * options.tol and len(options.backends) > 1 and not qp.elastic:
         # a consistent linearisation is met exactly by the QP's step; an answer that leaves the (small) violation
         # where it was hides inside the backend's own feasibility tolerance (DAQP: 1e-6): ask the next backend
-        v1 = float(np.sum(rows.violation(st.pt.c + st.der.J @ qp.d)))
+        assert qp.v_lin is not None  # (v0 > 0: there are nonlinear rows)
+        v1 = float(qp.v_lin.sum())
         if v1 > 0.5 * v0:
             other = solve_subproblem(st.B, st.der.g, nl, lin, *_box(problem, options, x),
                                      backends=options.backends[1:], initvals=kw["initvals"])
-            if other.found and float(np.sum(rows.violation(st.pt.c + st.der.J @ other.d))) < v1:
+            v_other = linearised_violation(problem, st, other.d) if other.found else None
+            if v_other is not None and float(v_other.sum()) < v1:
                 qp = replace(other, status=f"opt[{options.backends[1][0]}]" if other.status == "optimal"
-                             else other.status)
+                             else other.status, v_lin=v_other)
     if qp.found or rows.lb.size == 0:
         return qp, 0.0
     rho = min(MAX_ELASTIC_PENALTY, max(1e2, 10.0 * float(np.max(st.mu, initial=0.0)),
@@ -70,12 +74,20 @@ def qp_step(problem: Problem, options: Options, st: State, rho: float) -> tuple[
     while True:
         qp = solve_subproblem(st.B, st.der.g, nl, lin, *_box(problem, options, x), elastic_penalty=rho,
                               **kw)
-        if not qp.found or rho >= MAX_ELASTIC_PENALTY:
+        if not qp.found:
             return qp, rho
-        v1 = float(np.sum(rows.violation(st.pt.c + st.der.J @ qp.d)))
+        qp = _with_violation(qp, linearised_violation(problem, st, qp.d))
+        if rho >= MAX_ELASTIC_PENALTY:
+            return qp, rho
+        v1 = float(np.sum(qp.v_lin))
         if v0 - v1 >= 0.1 * v0:
             return qp, rho
         rho = min(MAX_ELASTIC_PENALTY, 10.0 * rho)
+
+
+def linearised_violation(problem: Problem, st: State, d: Array) -> Array:
+    """The nonlinear rows' violations linearised at the step ``d`` from ``st``: ``v(c + J d)``."""
+    return problem.nonlinear.violation(st.pt.c + st.der.J @ d)
 
 
 def second_order_correction(
@@ -100,6 +112,12 @@ def trial_point(problem: Problem, ev: Evaluator, x: Array, step: Array) -> Point
     """``x + step`` clipped into the bounds (rounding only: the QP keeps the bounds), evaluated."""
     x_new = x + step
     return ev.point(np.clip(x_new, problem.lower, problem.upper) if problem.has_bounds else x_new)
+
+
+def _with_violation(qp: QPStep, v_lin: Array) -> QPStep:
+    """``qp`` carrying ``v_lin`` (the constructor: a third of ``dataclasses.replace``'s cost)."""
+    return QPStep(d=qp.d, lam_nl=qp.lam_nl, lam_lin=qp.lam_lin, z=qp.z, found=qp.found, elastic=qp.elastic,
+                  slack=qp.slack, status=qp.status, v_lin=v_lin)
 
 
 def _equality_only(problem: Problem, box: tuple[Array, Array]) -> bool:

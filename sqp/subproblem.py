@@ -69,6 +69,8 @@ class QPStep:
         Sum of elastic slacks (0 for the ordinary QP): the linearised violation the step leaves.
     status : str
         Short description for the iteration table.
+    v_lin : ndarray or None
+        The nonlinear rows' violations linearised at the step, ``v(c + J d)``, set by :func:`sqp.step.qp_step`.
     """
 
     d: Array
@@ -79,6 +81,7 @@ class QPStep:
     elastic: bool
     slack: float
     status: str
+    v_lin: Array | None = None
 
 
 #: What a QP backend raises when it fails a subproblem (qpsolvers' own errors; quadprog's ValueError on an indefinite
@@ -100,13 +103,13 @@ def _stack_rows(parts: list[LinearisedRows], n: int) -> tuple[Any, Array, Any, A
         r = part.rows
         M = part.M
         if r.eq.size:
-            E_list.append(M[r.eq])
+            E_list.append(_rows_of(M, r.eq))
             e_list.append(part.lo[r.eq])
         if r.lower.size:
-            G_list.append(-M[r.lower])
+            G_list.append(-_rows_of(M, r.lower))
             h_list.append(-part.lo[r.lower])
         if r.upper.size:
-            G_list.append(M[r.upper])
+            G_list.append(_rows_of(M, r.upper))
             h_list.append(part.hi[r.upper])
         where.append((n_eq, n_in, n_in + r.lower.size))
         n_eq += r.eq.size
@@ -116,6 +119,13 @@ def _stack_rows(parts: list[LinearisedRows], n: int) -> tuple[Any, Array, Any, A
     e = _concatenate(e_list)
     h = _concatenate(h_list)
     return E, e, G, h, where
+
+
+def _rows_of(M: Any, index: NDArray[np.intp]) -> Any:
+    """``M[index]``; a sparse ``M`` itself when ``index`` is all its rows (:func:`_vstack` copies it anyway)."""
+    if sp.issparse(M) and index.size == M.shape[0]:
+        return M
+    return M[index]
 
 
 def _concatenate(parts: list[Array]) -> Array:
@@ -135,6 +145,8 @@ def _vstack(blocks: list[Any], n: int) -> Any:
 def _row_multipliers(rows: Rows, y: Array, z: Array, where: tuple[int, ...]) -> Array:
     """Per-row multipliers in the engine convention from qpsolvers' ``y`` (equalities) and ``z`` (``G d <= h``)."""
     i_eq, i_lo, i_up = where
+    if rows.eq.size == rows.lb.size:  # (equalities only: their multipliers in order)
+        return -y[i_eq : i_eq + rows.eq.size]
     lam = np.zeros(rows.lb.size)
     lam[rows.eq] = -y[i_eq : i_eq + rows.eq.size]
     lam[rows.lower] += z[i_lo : i_lo + rows.lower.size]

@@ -122,9 +122,10 @@ def _lift(samples: int, a0: float, a1: float) -> tuple[FloatArray, FloatArray]:
 
 #: Columns of the means ``[cm0 − tx, cm1, cm2, sm0 − ty, sm1, sm2]`` (``cm``: cos θ, ``sm``: sin θ; 0 the mean, 1 and
 #: 2 its derivatives in c₁, c₂) whose products :func:`_newton` needs — ``sm2·cm1, sm1·cm2, sm2·ry, cm2·rx, cm1·rx,
-#: sm1·ry`` — and the matrix summing them into the Jacobian's determinant and the two numerators of Cramer's rule.
-#: (Every sum it forms has two non-zero terms of weight ±1: exactly the subtraction or addition it replaces.)
-_LEFT, _RIGHT = np.array([5, 4, 5, 2, 1, 4]), np.array([1, 2, 3, 0, 0, 3])
+#: sm1·ry``: the six left factors, then the six right ones, one ``take`` — and the matrix summing them into the
+#: Jacobian's determinant and the two numerators of Cramer's rule. (Every sum it forms has two non-zero terms of
+#: weight ±1: exactly the subtraction or addition it replaces.)
+_PAIRS = np.array([5, 4, 5, 2, 1, 4, 1, 2, 3, 0, 0, 3])
 _CRAMER = np.array([[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0],
                     [0.0, 0.0, 1.0]])
 
@@ -140,15 +141,21 @@ def _newton(c: FloatArray, lift: FloatArray, blocks: FloatArray, target: FloatAr
     and one matrix product, :data:`_CRAMER`): per row the same arithmetic as writing the rule out term by term."""
     offset = np.array([target[0], 0.0, 0.0, target[1], 0.0, 0.0])
     means, settled = None, False
+    head = c[:, :2]  # (a view: the coefficients the steps move)
     for _ in range(steps):
-        means = np.cos(c @ lift) @ blocks
+        args = c @ lift
+        means = np.cos(args, out=args) @ blocks
         means -= offset  # the residual in columns 0 and 3
-        cramer = (means[:, _LEFT] * means[:, _RIGHT]) @ _CRAMER  # det, −(sm2 ry + cm2 rx), cm1 rx + sm1 ry
+        pairs = means.take(_PAIRS, axis=1)
+        cramer = (pairs[:, :6] * pairs[:, 6:]) @ _CRAMER  # det, −(sm2 ry + cm2 rx), cm1 rx + sm1 ry
         det = cramer[:, 0]
         step = cramer[:, 1:] * (1.0 / np.where(np.abs(det) > 1e-12, det, np.inf))[:, None]  # singular: no step
-        size = np.abs(step).max(axis=1)
-        c[:, :2] += step * (1.0 / np.maximum(size, 1.0))[:, None]
-        if not size.size or size.max() <= 1e-13:
+        size = np.maximum.reduce(np.abs(step), axis=1)
+        largest = np.maximum.reduce(size, initial=0.0)
+        if largest > 1.0:  # damped rows (|Δc|∞ ≤ 1); otherwise every factor would be exactly 1
+            step *= (1.0 / np.maximum(size, 1.0))[:, None]
+        head += step
+        if largest <= 1e-13:
             settled = True
             break
     return (np.full(c.shape[0], np.inf) if means is None else np.hypot(means[:, 0], means[:, 3])), settled

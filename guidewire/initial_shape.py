@@ -112,52 +112,65 @@ def _curve_tables(samples: int) -> tuple[FloatArray, FloatArray, FloatArray, Flo
     return tables
 
 
-def _lift(samples: int, a0: float, a1: float) -> tuple[FloatArray, FloatArray]:
-    """The matrix (3, 2M) taking ``[c₁, c₂, 1]`` to the arguments ``[θ | θ − π/2]`` at the sample points, and the
-    block weights of :func:`_curve_tables`."""
-    u, basis, blocks, _ = _curve_tables(samples)
-    line = a0 + (a1 - a0) * u
-    return np.vstack((basis, np.concatenate((line, line - 0.5 * np.pi)))), blocks
+def _lines(samples: int, a0: FloatArray, a1: FloatArray) -> FloatArray:
+    """The part of the arguments ``[θ | θ − π/2]`` at the sample points that does not depend on ``c``, one row
+    (2M,) per segment (``a0``, ``a1``: shape (S,))."""
+    u = _curve_tables(samples)[0]
+    line = a0[:, None] + (a1 - a0)[:, None] * u
+    return np.hstack((line, line - 0.5 * np.pi))
 
 
 #: Columns of the means ``[cm0 − tx, cm1, cm2, sm0 − ty, sm1, sm2]`` (``cm``: cos θ, ``sm``: sin θ; 0 the mean, 1 and
 #: 2 its derivatives in c₁, c₂) whose products :func:`_newton` needs — ``sm2·cm1, sm1·cm2, sm2·ry, cm2·rx, cm1·rx,
-#: sm1·ry`` — and the matrix summing them into the Jacobian's determinant and the two numerators of Cramer's rule.
-#: (Every sum it forms has two non-zero terms of weight ±1: exactly the subtraction or addition it replaces.)
-_LEFT, _RIGHT = np.array([5, 4, 5, 2, 1, 4]), np.array([1, 2, 3, 0, 0, 3])
+#: sm1·ry``: the six left factors, then the six right ones, one ``take`` — and the matrix summing them into the
+#: Jacobian's determinant and the two numerators of Cramer's rule. (Every sum it forms has two non-zero terms of
+#: weight ±1: exactly the subtraction or addition it replaces.)
+_PAIRS = np.array([5, 4, 5, 2, 1, 4, 1, 2, 3, 0, 0, 3])
 _CRAMER = np.array([[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0],
                     [0.0, 0.0, 1.0]])
 
 
-def _newton(c: FloatArray, lift: FloatArray, blocks: FloatArray, target: FloatArray, steps: int
+def _newton(c: FloatArray, lines: FloatArray, offset: FloatArray, samples: int, steps: int
             ) -> tuple[FloatArray, bool]:
     """``steps`` damped Newton steps (``|Δc|∞ ≤ 1``) on the closure ``mean(cos θ, sin θ) = target`` for every row of
-    ``c`` (G, 3; the last column is 1) at once, in place; stops early once every step is below 1e-13. Returns the
-    end-point miss / ℓ (G,) before the last step, and whether it stopped so (then every miss is the end point's up
-    to that last step: below 1e-12, or exactly the end point's where the Jacobian is singular and no step is made).
+    ``c`` (R, 2) at once, in place, on the ``samples``-point rule; ``lines`` (R or 1, 2M) is each row's part of the
+    arguments without ``c`` (:func:`_lines`), ``offset`` (R or 1, 6) its target in columns 0 and 3 (the rows may
+    belong to different segments). Stops early once every step is below 1e-13. Returns the end-point miss / ℓ (R,)
+    before the last step, and whether it stopped so (then every miss is the end point's up to that last step:
+    below 1e-12, or exactly the end point's where the Jacobian is singular and no step is made).
 
     Each step is a handful of whole-array operations (the 2 × 2 solves of all rows by Cramer's rule as one product
     and one matrix product, :data:`_CRAMER`): per row the same arithmetic as writing the rule out term by term."""
-    offset = np.array([target[0], 0.0, 0.0, target[1], 0.0, 0.0])
+    _, basis, blocks, _ = _curve_tables(samples)
     means, settled = None, False
     for _ in range(steps):
-        means = np.cos(c @ lift) @ blocks
+        args = c @ basis
+        args += lines
+        means = np.cos(args, out=args) @ blocks
         means -= offset  # the residual in columns 0 and 3
-        cramer = (means[:, _LEFT] * means[:, _RIGHT]) @ _CRAMER  # det, −(sm2 ry + cm2 rx), cm1 rx + sm1 ry
+        pairs = means.take(_PAIRS, axis=1)
+        cramer = (pairs[:, :6] * pairs[:, 6:]) @ _CRAMER  # det, −(sm2 ry + cm2 rx), cm1 rx + sm1 ry
         det = cramer[:, 0]
         step = cramer[:, 1:] * (1.0 / np.where(np.abs(det) > 1e-12, det, np.inf))[:, None]  # singular: no step
-        size = np.abs(step).max(axis=1)
-        c[:, :2] += step * (1.0 / np.maximum(size, 1.0))[:, None]
-        if not size.size or size.max() <= 1e-13:
+        size = np.maximum.reduce(np.abs(step), axis=1)
+        largest = np.maximum.reduce(size, initial=0.0)
+        if largest > 1.0:  # damped rows (|Δc|∞ ≤ 1); otherwise every factor would be exactly 1
+            step *= (1.0 / np.maximum(size, 1.0))[:, None]
+        c += step
+        if largest <= 1e-13:
             settled = True
             break
     return (np.full(c.shape[0], np.inf) if means is None else np.hypot(means[:, 0], means[:, 3])), settled
 
 
-#: The grid of starts ``[c₁, c₂, 1]`` of :func:`_segment_curves` (read-only; each call copies it).
-_STARTS = np.stack((*np.meshgrid(*(2 * [np.linspace(-NEWTON_GRID, NEWTON_GRID, NEWTON_GRID_POINTS)]), indexing="ij"),
-                    np.ones((NEWTON_GRID_POINTS, NEWTON_GRID_POINTS))), axis=-1).reshape(-1, 3)
+#: The grid of starts ``[c₁, c₂]`` of :func:`_segment_curves` (read-only; each call copies it).
+_STARTS = np.stack(np.meshgrid(*(2 * [np.linspace(-NEWTON_GRID, NEWTON_GRID, NEWTON_GRID_POINTS)]), indexing="ij"),
+                   axis=-1).reshape(-1, 2)
 _STARTS.flags.writeable = False
+
+
+Segment = tuple[FloatArray, FloatArray, float, float, float]
+"""``(p0, p1, a0, a1, ℓ)``: the end points, end tangents and length of a segment between two poses."""
 
 
 def _segment_curves(
@@ -180,23 +193,44 @@ def _segment_curves(
     energy : ndarray, shape (G,)
         ``∫ θ'² ds`` of each curve (1/mm), the bending energy over ``EI/2`` (``inf`` for a dropped start).
     """
-    c = _STARTS.copy()
-    target = (p1 - p0) / length
-    coarse, _ = _newton(c, *_lift(COARSE_SAMPLES, a0, a1), target, COARSE_STEPS)
+    return _many_segment_curves([(p0, p1, a0, a1, length)])[0]
+
+
+def _many_segment_curves(segments: list[Segment]) -> list[tuple[FloatArray, FloatArray, FloatArray]]:
+    """:func:`_segment_curves` of several segments, their grids as the rows of one Newton iteration (a step costs
+    little more for two segments than for one). For one segment the same arithmetic, bit for bit; for several, the
+    same up to rounding (the matrix products over more rows may round differently), and the iteration stops early
+    only when every segment's rows settled."""
+    count, starts = len(segments), _STARTS.shape[0]
+    p0, p1 = np.array([seg[0] for seg in segments], dtype=float), np.array([seg[1] for seg in segments], dtype=float)
+    a0, a1, length = (np.array([seg[k] for seg in segments], dtype=float) for k in (2, 3, 4))
+    target = (p1 - p0) / length[:, None]
+    offset = np.zeros((count, 6))
+    offset[:, 0], offset[:, 3] = target[:, 0], target[:, 1]
+    c = np.tile(_STARTS, (count, 1))  # (S G, 2): the grid of each segment in turn
+    row_segment = np.repeat(np.arange(count), starts)
+    lines = _lines(COARSE_SAMPLES, a0, a1)
+    coarse, _ = _newton(c, lines[row_segment] if count > 1 else lines, offset[row_segment] if count > 1 else offset,
+                        COARSE_SAMPLES, COARSE_STEPS)
     near = np.flatnonzero(coarse <= POLISH_MISS)
-    lift, blocks = _lift(CURVE_SAMPLES, a0, a1)
+    seg = row_segment[near]
+    lines = _lines(CURVE_SAMPLES, a0, a1)[seg]
     fine = c[near]
-    last, settled = _newton(fine, lift, blocks, target, NEWTON_STEPS - COARSE_STEPS)
+    last, settled = _newton(fine, lines, offset[seg], CURVE_SAMPLES, NEWTON_STEPS - COARSE_STEPS)
     c[near] = fine
+    _, basis, blocks, (cos1, cos2) = _curve_tables(CURVE_SAMPLES)
     if not settled:  # the end points' own miss (when every step settled, the last one decides the same)
-        m = np.cos(fine @ lift) @ blocks[:, ::3]
-        last = np.hypot(m[:, 0] - target[0], m[:, 1] - target[1])
+        args = fine @ basis
+        args += lines
+        m = np.cos(args, out=args) @ blocks[:, ::3]
+        last = np.hypot(m[:, 0] - target[seg, 0], m[:, 1] - target[seg, 1])
     miss, energy = np.full(c.shape[0], np.inf), np.full(c.shape[0], np.inf)
-    miss[near] = last * length
-    cos1, cos2 = _curve_tables(CURVE_SAMPLES)[3]
-    slope = (a1 - a0) + np.pi * fine[:, :1] * cos1 + 2.0 * np.pi * fine[:, 1:2] * cos2
-    energy[near] = np.mean(slope**2, axis=1) / length  # ∫ (dθ/ds)² ds
-    return c[:, :2], miss, energy
+    miss[near] = last * length[seg]
+    slope = (a1 - a0)[seg, None] + np.pi * fine[:, :1] * cos1 + 2.0 * np.pi * fine[:, 1:2] * cos2
+    energy[near] = np.mean(slope**2, axis=1) / length[seg]  # ∫ (dθ/ds)² ds
+    rows = c.reshape(count, starts, 2)
+    miss, energy = miss.reshape(count, starts), energy.reshape(count, starts)
+    return [(rows[k], miss[k], energy[k]) for k in range(count)]
 
 
 def _least(c: FloatArray, energy: FloatArray) -> int:
@@ -214,18 +248,20 @@ TIE_TOLERANCE = 1e-12
 
 
 def _segment_angles(
-    p0: FloatArray, p1: FloatArray, a0: float, a1: float, lengths: FloatArray, a1_free: bool = False
+    p0: FloatArray, p1: FloatArray, a0: float, a1: float, lengths: FloatArray, a1_free: bool = False,
+    curves: tuple[FloatArray, FloatArray, FloatArray] | None = None,
 ) -> tuple[FloatArray, float]:
     """Angles of the bars between two poses: the least-energy curve of :func:`_segment_curves` at each bar's
     midpoint (the straight chord if the wire is taut; the straight-line-in-angle curve if no curve closes).
 
     When ``a1_free`` (the end tangent is only an estimate) and no curve closes with it, the estimate plus each of
-    :data:`END_TANGENT_OFFSETS` is tried and the least-energy closing curve kept. Returns the angles and the end
-    tangent used."""
+    :data:`END_TANGENT_OFFSETS` is tried and the least-energy closing curve kept. ``curves``: the grid of
+    :func:`_segment_curves` for this segment with the end tangent ``a1``, when already computed. Returns the angles
+    and the end tangent used."""
     length = float(lengths.sum())
     u_mid = (np.cumsum(lengths) - 0.5 * lengths) / length
     chord = np.hypot(*(p1 - p0))
-    if chord >= length * (1.0 - NEARLY_TAUT):
+    if not _curved(chord, length):
         straight = a0 + _wrap(math.atan2(p1[1] - p0[1], p1[0] - p0[0]) - a0)  # the chord, in a0's winding
         if chord >= length * (1.0 - TAUT_ROUNDING):  # taut up to rounding: the straight chord
             return np.full(lengths.size, straight), (straight if a1_free else a1)
@@ -239,7 +275,8 @@ def _segment_angles(
         return angles, (straight + side * x if a1_free else a1)
     best, best_energy, end = np.zeros(2), np.inf, a1
     for offset in (0.0, *END_TANGENT_OFFSETS) if a1_free else (0.0,):
-        c, miss, energy = _segment_curves(p0, p1, a0, a1 + offset, length)
+        c, miss, energy = curves if offset == 0.0 and curves is not None else _segment_curves(p0, p1, a0, a1 + offset,
+                                                                                             length)
         energy = np.where(miss <= CLOSURE_TOLERANCE * length, energy, np.inf)
         k = _least(c, energy)
         if energy[k] < best_energy:
@@ -253,6 +290,25 @@ def _segment_angles(
 NEARLY_TAUT, TAUT_ROUNDING = 1e-6, 1e-14
 """A segment whose chord is within ``NEARLY_TAUT`` of its length starts as the circular arc through its end points,
 unless it is within ``TAUT_ROUNDING`` (taut up to rounding): then as the straight chord."""
+
+
+def _curved(chord: float, length: float) -> bool:
+    """Whether a segment of this chord and length takes a curve of the grid (it is not nearly taut)."""
+    return bool(chord < length * (1.0 - NEARLY_TAUT))
+
+
+def _grids_ahead(points: list[FloatArray], tangents: list[float], spans: list[FloatArray]
+                 ) -> dict[int, tuple[tuple[float, float], tuple[FloatArray, FloatArray, FloatArray]]]:
+    """The grids of every curved segment at once (:func:`_many_segment_curves`), each with the end tangents it used
+    (those estimated before any segment ran; a segment that changes its end tangent invalidates the next one's), or
+    nothing for fewer than two curved segments (one grid gains nothing from it)."""
+    curved = [i for i, span in enumerate(spans)
+              if _curved(float(np.hypot(*(points[i + 1] - points[i]))), float(span.sum()))]
+    if len(curved) < 2:
+        return {}
+    grids = _many_segment_curves([(points[i], points[i + 1], tangents[i], tangents[i + 1], float(spans[i].sum()))
+                                  for i in curved])
+    return {i: ((tangents[i], tangents[i + 1]), grid) for i, grid in zip(curved, grids, strict=True)}
 
 END_TANGENT_OFFSETS = np.pi * np.array([0.25, -0.25, 0.5, -0.5, 0.75, -0.75, 1.0])
 """Offsets from an estimated end tangent tried when no start curve closes with the estimate itself."""
@@ -372,11 +428,14 @@ def initial_angles(scene: Scene, chain: BarChain, contact_nodes: NDArray[np.int_
         angles[0] = next((c.angle for c in scene.contacts if c.angle is not None), 0.0)
     tangents = _pose_angles(points, angles)
     lengths = chain.lengths
+    spans = [lengths[pose_nodes[i] : pose_nodes[i + 1]] for i in range(len(points) - 1)]
+    ahead = _grids_ahead(points, tangents, spans)
     parts = []
-    for i in range(len(points) - 1):  # one curve per pair of consecutive poses (a handful, not nodes)
-        seg = lengths[pose_nodes[i] : pose_nodes[i + 1]]
-        part, tangents[i + 1] = _segment_angles(points[i], points[i + 1], tangents[i], tangents[i + 1], seg,
-                                                a1_free=angles[i + 1] is None)
+    for i, span in enumerate(spans):  # one curve per pair of consecutive poses (a handful, not nodes)
+        used, grid = ahead.get(i, (None, None))
+        part, tangents[i + 1] = _segment_angles(points[i], points[i + 1], tangents[i], tangents[i + 1], span,
+                                                a1_free=angles[i + 1] is None,
+                                                curves=grid if used == (tangents[i], tangents[i + 1]) else None)
         parts.append(part)
     last = pose_nodes[-1]
     parts.append(_free_part_angles(scene, points[-1], tangents[-1], lengths[last:]))

@@ -48,16 +48,21 @@ def _frozen_segment_curves(p0, p1, a0, a1, length):
 def _calls(path, bars, monkeypatch):
     """The arguments of every grid the default start of ``path`` at ``bars`` runs."""
     calls = []
-    real = shape._segment_curves
+    real, real_many = shape._segment_curves, shape._many_segment_curves
 
     def record(*args):
         calls.append(args)
         return real(*args)
 
+    def record_many(segments):
+        calls.extend(segments)
+        return real_many(segments)
+
     scene = guidewire.load_scene(path).with_bars(bars)
     lengths, nodes = scene_bars(scene)
     with monkeypatch.context() as m:
         m.setattr(shape, "_segment_curves", record)
+        m.setattr(shape, "_many_segment_curves", record_many)
         shape.initial_angles(scene, BarChain(np.asarray(scene.base.point, dtype=float), lengths), nodes)
     return calls
 
@@ -110,3 +115,28 @@ def test_symmetric_segment_has_mirror_twins_and_the_choice_is_stable():
     assert c[k, 1] < 0.0
     mirror = np.flatnonzero(closing & np.isclose(c[:, 1], -c[k, 1], rtol=1e-9) & np.isclose(c[:, 0], c[k, 0]))
     assert mirror.size and energy[mirror[0]] == pytest.approx(energy[k], rel=1e-12)
+
+
+def test_grids_of_several_segments_at_once_are_each_segments_own():
+    """:func:`_many_segment_curves` (the segments of a scene as one Newton iteration) finds each segment's curves:
+    the same winner and energy as the segment alone, up to rounding."""
+    rng = np.random.default_rng(3)
+    for _ in range(40):
+        segments = []
+        for _ in range(int(rng.integers(2, 5))):
+            p0 = 10.0 * rng.normal(size=2)
+            p1 = p0 + 10.0 * rng.normal(size=2)
+            a0, a1 = 2.0 * rng.normal(size=2)
+            segments.append((p0, p1, float(a0), float(a1), float(np.hypot(*(p1 - p0)) * (1.0 + 2.0 * rng.random()))))
+        for segment, (c, miss, energy) in zip(segments, shape._many_segment_curves(segments), strict=True):
+            c_one, miss_one, energy_one = shape._segment_curves(*segment)
+            tolerance = shape.CLOSURE_TOLERANCE * segment[4]
+            assert np.array_equal(np.isfinite(miss), np.isfinite(miss_one))
+            closing, closing_one = np.where(miss <= tolerance, energy, np.inf), np.where(miss_one <= tolerance,
+                                                                                        energy_one, np.inf)
+            k, k_one = shape._least(c, closing), shape._least(c_one, closing_one)
+            assert np.isfinite(closing[k]) == np.isfinite(closing_one[k_one])
+            if np.isfinite(closing[k]):
+                assert closing[k] == pytest.approx(closing_one[k_one], rel=1e-13)
+                assert np.abs(c[k] - c_one[k_one]).max() < 1e-10
+

@@ -16,14 +16,14 @@ analytic ``jac`` and ``hess``; an angle-row block is a ``LinearConstraint``. No 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
-from typing import Any, Protocol
+from dataclasses import dataclass, field
+from typing import Any, NamedTuple, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import LinearConstraint, NonlinearConstraint
 
-from .blocks import BLOCK_TYPES, AngleRows, Block, NodeRows
+from .blocks import BLOCK_TYPES, AngleRows, Block, NodeRows, Rows
 from .blocks.base import row_violation
 from .model import Model, ModelReuse, build_model
 from .reduced import ReducedLayout
@@ -58,6 +58,15 @@ class Layout(Protocol):
     def answer(self, blocks: Sequence[Block], x: FloatArray, per_block: Sequence[FloatArray]) -> FloatArray: ...
 
 
+class BlockMultipliers(NamedTuple):
+    """Multipliers of a neighbouring solve, one array per constraint block, with those blocks: what
+    :meth:`Formulation.multipliers0` matches (``guidewire.solve(multipliers0=...)`` takes it as it takes a
+    :class:`~guidewire.result.Solution`)."""
+
+    blocks: tuple[Block, ...]
+    multipliers: tuple[FloatArray, ...]
+
+
 @dataclass(frozen=True)
 class Formulation:
     """The nonlinear program of one scene in one layout.
@@ -74,6 +83,9 @@ class Formulation:
         then one per block.
     x0 : ndarray, shape (size,)
         The start, in the layout's variables.
+    rows : tuple of NodeRows or AngleRows
+        Every block's :meth:`Block.rows` on :attr:`model`, in :attr:`blocks` order, as the constraints state them
+        (built once: :meth:`max_violation` reads them too); empty when not given.
     """
 
     model: Model
@@ -81,6 +93,7 @@ class Formulation:
     blocks: tuple[Block, ...]
     constraints: tuple[Any, ...]
     x0: FloatArray
+    rows: tuple[Rows, ...] = field(default=(), compare=False, repr=False)
 
     # -- what it is ----------------------------------------------------------------------------------------------
     @property
@@ -175,8 +188,9 @@ class Formulation:
         """Largest violation (mm or rad) of any block at the bar angles ``phi`` — walls at every node, not only
         their working set. ``nodes``: the chain's nodes at ``phi`` when the caller has them."""
         points = self.model.chain.nodes(phi) if nodes is None else nodes
-        return max((float(np.max(b.violation(self.model, phi, points), initial=0.0)) for b in self.blocks),
-                   default=0.0)
+        rows: tuple[Rows | None, ...] = self.rows or (None,) * len(self.blocks)
+        return max((float(np.max(b.violation(self.model, phi, points, r), initial=0.0))
+                    for b, r in zip(self.blocks, rows, strict=True)), default=0.0)
 
     def multipliers(self, res: Any) -> list[FloatArray]:
         """One array per block (in :attr:`blocks` order) from an ``sqp`` result, in the sign convention of
@@ -200,6 +214,9 @@ class Formulation:
                 other, values = known[block.key]
                 if values.size == other.size:
                     matched = True
+                    if np.array_equal(other.row_keys, block.row_keys):  # (the same rows: every one matches)
+                        out.append(values.copy())
+                        continue
                     where = {int(r): i for i, r in enumerate(other.row_keys)}
                     pick = np.array([where.get(int(r), -1) for r in block.row_keys], dtype=int)
                     lam = np.where(pick >= 0, values[np.maximum(pick, 0)] if values.size else 0.0, 0.0)
@@ -292,10 +309,11 @@ def assemble(model: Model, layout: str, blocks: Sequence[Block]) -> Formulation:
     else:
         lay = ReducedLayout(model)
     constraints = lay.own_constraints()
-    placed = []
+    placed, built = [], []
     for block in blocks:
         rows = block.rows(model)
         placed.append(block.with_index(len(constraints)))
+        built.append(rows)
         constraints.append(lay.node_rows(rows) if isinstance(rows, NodeRows) else lay.angle_rows(rows))
     return Formulation(model=model, layout=lay, blocks=tuple(placed), constraints=tuple(constraints),
-                       x0=lay.start(placed))
+                       x0=lay.start(placed), rows=tuple(built))

@@ -5,11 +5,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from .formulation import BlockMultipliers
 from .model import ModelReuse
 from .result import Solution
 from .scene import Scene
@@ -177,27 +178,40 @@ def _lagrange_weights(tau: list[float]) -> list[float]:
     return weights
 
 
-def _prediction(sols: list[Solution], weights: list[float]) -> tuple[Any, Any]:
+def _prediction(sols: list[Solution], weights: list[float]) -> tuple[Any, BlockMultipliers]:
     """Start angles and multipliers extrapolated through ``sols`` (oldest first) with ``weights``.
 
     A multiplier is extrapolated only where its block has the same rows in every solution and it kept its sign
     through them and keeps it (a wall or b₂ row that is leaving or entering contact keeps its last value)."""
     prev = sols[-1]
     angles = sum(w * s.bar_angles for w, s in zip(weights, sols, strict=True))
-    earlier = [{b.key: (b, v) for b, v in zip(s.blocks, s.multipliers, strict=True)} for s in sols[:-1]]
     lam = []
-    for block, a in zip(prev.blocks, prev.multipliers, strict=True):
-        found = [e.get(block.key) for e in earlier]
-        if any(f is None or not np.array_equal(f[0].row_keys, block.row_keys) for f in found):
+    for i, (block, a) in enumerate(zip(prev.blocks, prev.multipliers, strict=True)):
+        values = [_same_rows(s, i, block) for s in sols[:-1]]
+        if any(v is None for v in values):
             lam.append(a)
             continue
-        values = [f[1] for f in found if f is not None] + [a]
+        values.append(a)
         guess = sum(w * v for w, v in zip(weights, values, strict=True))
-        same = np.sign(guess) == np.sign(a)
+        sign = np.sign(a)
+        same = np.sign(guess) == sign
         for v in values[:-1]:
-            same &= np.sign(v) == np.sign(a)
+            same &= np.sign(v) == sign
         lam.append(np.where(same, guess, a))
-    return angles, replace(prev, multipliers=tuple(lam))
+    return angles, BlockMultipliers(prev.blocks, tuple(lam))
+
+
+def _same_rows(sol: Solution, i: int, block: Any) -> Any:
+    """The multipliers of ``sol``'s block with ``block``'s key when it has the same rows (looked for at position
+    ``i`` first, where a sequence keeps it), else None."""
+    blocks = sol.blocks
+    if i < len(blocks) and blocks[i].key == block.key:
+        found = i
+    else:
+        found = next((j for j, b in enumerate(blocks) if b.key == block.key), -1)
+        if found < 0:
+            return None
+    return sol.multipliers[found] if np.array_equal(blocks[found].row_keys, block.row_keys) else None
 
 
 def _resampled_angles(prev: Solution, scene: Scene, bars: int | None) -> Any:

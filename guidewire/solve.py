@@ -13,7 +13,7 @@ from typing import Any
 import sqp
 
 from .branches import candidate_iterations, check_branches, lowest_branch
-from .formulation import LAYOUTS, Formulation, assemble, formulate
+from .formulation import LAYOUTS, BlockMultipliers, Formulation, assemble, formulate
 from .result import Solution, build_solution
 from .scene import Scene
 
@@ -98,8 +98,9 @@ def solve(
         ``"reduced"``: the paper's program, bar angles only. ``"full"``: bar angles and node positions, closed by
         sparse equalities (:mod:`guidewire.full_space`; exact Hessian only), O(n) per iteration. ``"auto"``
         (default): :func:`choose_layout`. Both give the same shape and the same multipliers.
-    multipliers0 : Solution or sequence of arrays, optional
-        Starting multipliers: a neighbouring :class:`Solution` (its blocks matched by kind, members and row, see
+    multipliers0 : Solution, BlockMultipliers or sequence of arrays, optional
+        Starting multipliers: a neighbouring :class:`Solution` or a
+        :class:`~guidewire.formulation.BlockMultipliers` (their blocks matched by kind, members and row, see
         :meth:`Formulation.multipliers0`), or one array per constraint block of this scene's formulation.
     qp_solver : str, optional
         qpsolvers backend, or None/"auto" (default) for :func:`sqp.minimize`'s choice by the program's structure.
@@ -235,7 +236,7 @@ def _start_multipliers(form: Formulation, multipliers0: Any) -> list[Any] | None
     """``multipliers0`` of :func:`solve` as ``sqp.minimize`` takes them for ``form``, or None."""
     if multipliers0 is None:
         return None
-    if isinstance(multipliers0, Solution):
+    if isinstance(multipliers0, Solution | BlockMultipliers):
         return form.multipliers0(multipliers0.blocks, multipliers0.multipliers)
     if isinstance(multipliers0, Sequence) and len(multipliers0) == len(form.blocks):
         return form.multipliers0(form.blocks, multipliers0)

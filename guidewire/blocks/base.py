@@ -187,10 +187,11 @@ class Block:
         carrying multipliers over from a neighbouring solve."""
         return self.nodes
 
-    def violation(self, model: Model, phi: FloatArray, points: FloatArray | None = None) -> FloatArray:
+    def violation(self, model: Model, phi: FloatArray, points: FloatArray | None = None,
+                  rows: Rows | None = None) -> FloatArray:
         """Violation (mm or rad, ≥ 0) of every row at the bar angles ``phi`` (node positions ``points`` when given,
-        else ``model.chain.nodes(phi)``)."""
-        rows = self.rows(model)
+        else ``model.chain.nodes(phi)``; the block's :meth:`rows` on ``model`` when given, else built)."""
+        rows = self.rows(model) if rows is None else rows
         if isinstance(rows, NodeRows):
             values = rows.values(model.chain.nodes(phi) if points is None else points)
         else:

@@ -148,8 +148,10 @@ class Lumen(Block):
         c = model.scene.vessel.clearance(points[1:])
         return c.distance - _needed(model, c.curvature, np.arange(1, model.n + 1))
 
-    def violation(self, model: Model, phi: FloatArray, points: FloatArray | None = None) -> FloatArray:
-        """Violation at *every* node 1..n against the true (curved) lumen, not only the working set's rows."""
+    def violation(self, model: Model, phi: FloatArray, points: FloatArray | None = None,
+                  rows: Any = None) -> FloatArray:
+        """Violation at *every* node 1..n against the true (curved) lumen, not only the working set's rows (``rows`` is
+        not read)."""
         points = model.chain.nodes(phi) if points is None else points
         return np.maximum(-self.slack(model, points), 0.0)
 

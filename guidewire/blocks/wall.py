@@ -67,8 +67,10 @@ class Wall(Block):
         normal, offset = model.scene.walls[self.members[0]].unit()
         return offset - points[1:] @ np.asarray(normal)
 
-    def violation(self, model: Model, phi: FloatArray, points: FloatArray | None = None) -> FloatArray:
-        """Violation at *every* node 1..n, not only the working set (the answer must respect the whole wall)."""
+    def violation(self, model: Model, phi: FloatArray, points: FloatArray | None = None,
+                  rows: Any = None) -> FloatArray:
+        """Violation at *every* node 1..n, not only the working set (the answer must respect the whole wall; ``rows``
+        is not read)."""
         points = model.chain.nodes(phi) if points is None else points
         return np.maximum(-self.gaps(model, points), 0.0)
 

@@ -233,6 +233,20 @@ def _many_segment_curves(segments: list[Segment]) -> list[tuple[FloatArray, Floa
     return [(rows[k], miss[k], energy[k]) for k in range(count)]
 
 
+def least_bending(segments: list[Segment]) -> FloatArray:
+    """``∫ θ'² ds`` (1/mm) of the least-bending closing start curve of each segment ``(p0, p1, a0, a1, ℓ)`` (all
+    grids in one Newton iteration, :func:`_many_segment_curves`): ``inf`` where no curve closes, 0 for a nearly
+    taut segment (its start is the chord or arc whatever the tangents). Used to compare trial tangents of a pose
+    (:mod:`guidewire.branches`)."""
+    out = np.zeros(len(segments))
+    curved = [k for k, seg in enumerate(segments) if _curved(float(np.hypot(*(seg[1] - seg[0]))), float(seg[4]))]
+    if curved:
+        for k, (_, miss, energy) in zip(curved, _many_segment_curves([segments[k] for k in curved]), strict=True):
+            closing = energy[miss <= CLOSURE_TOLERANCE * segments[k][4]]
+            out[k] = closing.min() if closing.size else np.inf
+    return out
+
+
 def _least(c: FloatArray, energy: FloatArray) -> int:
     """Index of the least ``energy``; a near tie (within :data:`TIE_TOLERANCE`, as for the two mirror-image curves of
     a symmetric segment) goes to the least ``c₂``, then ``c₁``, rather than to rounding."""

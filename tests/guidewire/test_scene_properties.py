@@ -136,6 +136,26 @@ def test_known_two_branch_scene_keeps_the_lower_branch():
     assert solve(scene, initial_angles=first.bar_angles).starts == 1
 
 
+def test_tangent_scan_finds_the_branch_the_mirror_starts_miss():
+    """A hand-written scene (a pin at s = 40 mm and a clamped tip 15.7 mm from it): the default start and both mirror
+    starts end at 37.09 N·mm with the pin's tangent at 0.80 rad; continuation along a tip path reaches a valid
+    23.58 N·mm with it at 1.41 rad. The tangent scan (:mod:`guidewire.branches`) must find that branch, and the
+    mirrored scene the mirrored answer."""
+    wire = Wire(70.0, 100, youngs_modulus=60000.0, diameter=0.4)
+    scene = Scene(wire, Base((0.0, 0.0), 0.3), (Contact(40.0, (30.0, 18.0)), Contact(70.0, (44.0, 11.0), -0.9)))
+    first = solve(scene, branches="first")
+    assert first.success and first.energy == pytest.approx(37.09, abs=0.01)  # the higher branch: the start's
+    sol = solve(scene)
+    assert sol.success, sol.message
+    assert "tangent-scan start" in sol.message and sol.starts == 4
+    assert sol.energy == pytest.approx(23.58, abs=0.01)
+    assert sol.tangent_angles[int(round(40.0 / 70.0 * 100))] == pytest.approx(1.41, abs=0.01)
+    assert sol.max_violation <= 1e-7 * wire.length and sol.moment_balance() <= 1e-6 * (1.0 + sol.energy)
+    mirrored = solve(scene.mirrored())
+    assert mirrored.success and mirrored.energy == pytest.approx(sol.energy, rel=1e-9)
+    np.testing.assert_allclose(mirrored.nodes, sol.nodes * [1.0, -1.0], atol=1e-7)
+
+
 @pytest.mark.parametrize("bad", ["all", "", None, 1, ["lowest"]])
 def test_branches_option_rejects_bad_values(bad):
     scene = Scene(Wire(40.0, 20), Base((0.0, 0.0), 0.0), (Contact(40.0, (36.0, 5.0)),))

@@ -171,11 +171,6 @@ def _gram(C: Any, is_sparse: bool) -> Any:
     return CtC if CtC.nnz <= SPARSE_GRAM_DENSITY * CtC.shape[0] else None
 
 
-def plus_scaled(W: Array, r: float, CtC: Array) -> Array:
-    """``W + r * CtC`` of dense arrays, as the general path of :func:`convexify` forms it (the same numbers)."""
-    return _plus_scaled(W, r, CtC, False)
-
-
 def _plus_scaled(W: Any, r: float, CtC: Any, is_sparse: bool) -> Any:
     """``W + r * CtC``, dense in one new array (the sum taken in place of the product, the same numbers)."""
     if is_sparse:

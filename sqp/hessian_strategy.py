@@ -14,8 +14,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from sqp import dense_kkt
-from sqp.hessian import DENSE_LIMIT, convexify, damped_bfgs_update, initial_scaling, plus_scaled
+from sqp.hessian import convexify, damped_bfgs_update, initial_scaling
 from sqp.iterate import Derivatives, Evaluator, State
 from sqp.kkt import inf_norm
 from sqp.multipliers import al_rows, equality_rows, newton_multipliers, nonlinear_lagrangian_gradient
@@ -101,10 +100,6 @@ class ConvexifiedExact:
     else an identity shift); with the augmented-Lagrangian term the QP's multipliers are corrected back to the
     Newton step's (:func:`~sqp.multipliers.newton_multipliers`).
 
-    A dense ``W`` with a few equality rows (:func:`sqp.dense_kkt.candidate`) goes to the QP unconvexified, as a
-    :class:`~sqp.dense_kkt.DeferredHessian`: an equality-only QP whose KKT matrix has the right inertia takes the
-    exact Newton step from one factorisation of that matrix, and only any other QP convexifies it (then as above).
-
     Keeps between iterations the last shift and augmented-Lagrangian weight (each the start of the next search) and
     the rows that weight was applied on.
     """
@@ -114,7 +109,6 @@ class ConvexifiedExact:
         self.lam0 = np.zeros(problem.nonlinear.lb.size) if lam0 is None else lam0
         self.shift = 0.0
         self.weight = 0.0
-        self.applied = 0.0  # (the weight in this iteration's B: 0 while B is a dense_kkt.DeferredHessian)
         self.rows: Array = np.zeros(0, dtype=np.intp)
 
     def initial(self, st: State) -> Any:
@@ -127,38 +121,12 @@ class ConvexifiedExact:
         W = ev.lagrangian_hessian(st.pt.x, lam)
         if ev.hessian_nonfinite is not None:
             return None
-        C = equality_rows(self.problem, st.der.J, self.rows)
-        if sp.issparse(W) and W.shape[0] <= DENSE_LIMIT:
-            W = W.toarray()
-        self.applied = 0.0
-        if dense_kkt.candidate(W, C):  # (convexified only if the QP is not equality-only or K's inertia is wrong)
-            return dense_kkt.DeferredHessian.wrap(W, lambda: self._convexify(W, C),
-                                                  lambda E, Y: self._settle(W, C, E, Y))
-        return self._convexify(W, C)
-
-    def _settle(self, W: Any, C: Any, E: Any, Y: Any) -> Any:
-        """After a KKT step with the unconvexified ``W`` (:meth:`sqp.dense_kkt.DeferredHessian.settled`): the matrix
-        and the weight :meth:`_convexify` would have given, decided from ``K``'s inverse block ``Y``
-        (:func:`sqp.dense_kkt.augmented_weight`; the same numbers: ``W`` or ``W + r C^T C``); None when undecided."""
-        C = C.toarray() if sp.issparse(C) else np.asarray(C)
-        if C.shape != E.shape or not np.array_equal(C, E):
-            return None
-        CtC = C.T @ C
-        r = dense_kkt.augmented_weight(Y, max(1.0, float(np.abs(W.diagonal()).max())), float(CtC.diagonal().max()),
-                                       self.weight)
-        if r is None:
-            return None
-        self.shift, self.weight = 0.0, r
-        return W if r == 0.0 else plus_scaled(W, r, CtC)
-
-    def _convexify(self, W: Any, C: Any) -> Any:
-        """:func:`~sqp.hessian.convexify` with the last shift and weight; keeps the new ones."""
-        B, self.shift, self.weight = convexify(W, self.shift, C, self.weight)
-        self.applied = self.weight
+        B, self.shift, self.weight = convexify(W, self.shift, equality_rows(self.problem, st.der.J, self.rows),
+                                               self.weight)
         return B
 
     def multipliers(self, st: State, qp: QPStep) -> QPStep:
-        if self.applied > 0.0 and qp.found and not qp.elastic:
+        if self.weight > 0.0 and qp.found and not qp.elastic:
             return newton_multipliers(self.problem, st, qp, self.rows, self.weight)
         return qp
 

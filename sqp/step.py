@@ -9,7 +9,6 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import NDArray
 
-from sqp.dense_kkt import DeferredHessian
 from sqp.iterate import Evaluator, Point, State
 from sqp.kkt import inf_norm
 from sqp.options import Options
@@ -40,9 +39,7 @@ def qp_step(problem: Problem, options: Options, st: State, rho: float) -> tuple[
 
     An indefinite :class:`sqp.structured.FactoredHessian` in ``st.B`` (an exact Hessian left unconvexified by
     :func:`sqp.hessian.convexify`) serves an equality-only QP whose KKT matrix has the right inertia; otherwise
-    ``st.B`` is replaced by its convexification here, before any backend sees it. A dense one
-    (:class:`sqp.dense_kkt.DeferredHessian`) is replaced after its KKT step by the matrix its convexification would
-    have been (for the merit function and the result; the step is the same).
+    ``st.B`` is replaced by its convexification here, before any backend sees it.
     """
     nl, lin = linearised(problem, st)
     x = st.pt.x
@@ -51,11 +48,8 @@ def qp_step(problem: Problem, options: Options, st: State, rho: float) -> tuple[
     if needs_convexification(st.B) and not _equality_only(problem, box):
         st.B = st.B.convexified()
     qp = solve_subproblem(st.B, st.der.g, nl, lin, *box, **kw)
-    settled = st.B.settled() if qp.found and isinstance(st.B, DeferredHessian) else st.B
-    if settled is not None:  # (a dense W after its KKT step: the matrix the convexification would have given)
-        st.B = settled
-    if (not qp.found or settled is None) and needs_convexification(st.B):  # K's inertia is wrong: W is not convex
-        st.B = st.B.convexified()  # on E's null space (or the weight is undecided: the general path decides it)
+    if not qp.found and needs_convexification(st.B):  # K's inertia is wrong: W is not convex on E's null space
+        st.B = st.B.convexified()
         qp = solve_subproblem(st.B, st.der.g, nl, lin, *box, **kw)
     rows = problem.nonlinear
     v0 = float(st.pt.v.sum())

@@ -148,10 +148,8 @@ class FactoredHessian(sp.csc_matrix):
 
 
 def needs_convexification(B: Any) -> bool:
-    """Whether ``B`` is an indefinite :class:`FactoredHessian` (only :func:`equality_kkt` may use it as it is) or a
-    :class:`sqp.dense_kkt.DeferredHessian` (only its own KKT solve may): anything with a ``convexified()`` that is not
-    known to be positive definite."""
-    return callable(getattr(B, "convexified", None)) and not B.positive_definite
+    """Whether ``B`` is an indefinite :class:`FactoredHessian` (only :func:`equality_kkt` may use it as it is)."""
+    return isinstance(B, FactoredHessian) and not B.positive_definite
 
 
 def equality_kkt(B: Any, g: Array, E: Any, e: Array) -> tuple[Array, Array] | None:

@@ -7,6 +7,7 @@ Symbols (Nocedal & Wright, Procedure 18.2): ``B`` the current approximation, ``s
 
 from __future__ import annotations
 
+import math
 import warnings
 from typing import Any
 
@@ -70,7 +71,8 @@ def initial_scaling(s: Array, y: Array) -> float:
 DENSE_LIMIT = 300
 
 
-def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0) -> tuple[Any, float, float]:
+def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0,
+              alone_first: bool = True) -> tuple[Any, float, float]:
     """A positive-definite model Hessian from the exact Lagrangian Hessian ``W``, changing the QP step least.
 
     1. ``W`` itself when it is positive definite.
@@ -89,7 +91,9 @@ def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0) -> tu
        needed 5-20x more iterations.)
 
     Dense matrices are tested by Cholesky; sparse ones by an LU factorisation without pivoting, whose pivots have the
-    signs of the eigenvalues (Sylvester's law of inertia).
+    signs of the eigenvalues (Sylvester's law of inertia). With ``alone_first`` False (the caller expects ``W`` to be
+    indefinite) a dense ``W`` without a last weight is not tested alone: ``W + r0 C^T C`` is tested first, and decides
+    whether ``W`` itself is positive definite (:func:`_indefinite_first`); the answer is the same.
 
     A large sparse banded ``W`` with a few dense rows ``C`` (:func:`sqp.structured.candidate`: the guidewire's
     reduced program above :data:`DENSE_LIMIT` variables, which 2. cannot serve) is factorised once and returned as
@@ -112,16 +116,26 @@ def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0) -> tu
         factor = structured.factor_symmetric(W)
         if factor is not None:
             return structured.FactoredHessian.wrap(W, factor, lambda: _convexify(W, shift, C, rho)[0]), 0.0, 0.0
-    return _convexify(W, shift, C, rho)
+    return _convexify(W, shift, C, rho, alone_first)
 
 
-def _convexify(W: Any, shift: float, C: Any, rho: float) -> tuple[Any, float, float]:
+def _convexify(W: Any, shift: float, C: Any, rho: float, alone_first: bool = True) -> tuple[Any, float, float]:
     """:func:`convexify`'s general path, 1.-3."""
     n = W.shape[0]
     is_sparse = sp.issparse(W)
     # (a W that needed the augmented-Lagrangian term last time goes straight to it: the term leaves the step
     # unchanged, and testing W alone again costs a factorisation per iteration)
-    CtC = _gram(C, is_sparse) if rho > 0.0 else None  # (no product on iterations where W alone will do)
+    guess = not (alone_first or is_sparse or rho > 0.0)  # (W expected indefinite: its own test skipped if it can be)
+    CtC = _gram(C, is_sparse) if rho > 0.0 or guess else None  # (no product on iterations where W alone will do)
+    rungs = 0  # (weights of the ladder below already known to fail)
+    if guess and CtC is not None:
+        first = _indefinite_first(W, C, CtC)
+        if first is not None and first[0] is not None:
+            return first
+        if first is not None:
+            rungs = 1
+        else:
+            CtC = None  # W alone may be positive definite: tested first, as without the guess
     if CtC is None:
         B = _accepted(_sorted(W, is_sparse), is_sparse)
         if B is not None:
@@ -135,7 +149,8 @@ def _convexify(W: Any, shift: float, C: Any, rho: float) -> tuple[Any, float, fl
         if base > 0.0:
             r0 = 1e-3 * scale / base
             r = r0 if rho <= 0.0 else max(rho, r0) if is_sparse else rho / 4.0
-            for _ in range(12):
+            r *= 10.0**rungs  # (the same numbers as growing it tenfold: rungs is 0 or 1)
+            for _ in range(12 - rungs):
                 B = _accepted(_sorted(_plus_scaled(W, r, CtC, is_sparse), is_sparse), is_sparse)
                 if B is not None:
                     return B, 0.0, r
@@ -149,6 +164,59 @@ def _convexify(W: Any, shift: float, C: Any, rho: float) -> tuple[Any, float, fl
             return accepted, delta, 0.0
         delta *= 10.0
     return B, delta, 0.0
+
+
+#: A test of :func:`_indefinite_first` within this relative distance of its threshold is left to the Cholesky test
+#: of ``W`` alone, which decides it in floating point.
+DECISION_RTOL = 1e-8
+
+
+def _indefinite_first(W: Array, C: Any, CtC: Array) -> tuple[Any, float, float] | tuple[None, float, float] | None:
+    """The first two tests of :func:`convexify`'s path 2 for a dense ``W`` without a last weight, ``W`` alone and then
+    ``W + r0 C^T C``, made in the other order: one factorisation instead of two when ``W`` is indefinite.
+
+    ``B = W + r0 C^T C = L L^T`` decides ``W`` too: by Haynsworth's inertia formula on
+    ``[[B, C^T], [C, I / r0]]``, ``In(W) = In(B) + In(I / r0 - C B^{-1} C^T) - In(I / r0)``, so ``W = B - r0 C^T C``
+    is positive definite exactly when ``lambda_max(C B^{-1} C^T) < 1 / r0`` (an ``m x m`` matrix). And when ``B`` is
+    not positive definite neither is ``W`` (``C^T C`` is positive semidefinite).
+
+    Returns
+    -------
+    (B, 0, r0)
+        ``W`` is indefinite and ``B`` (a :class:`CholeskyHessian`) is accepted: the answer of path 2.
+    (None, 0, r0)
+        ``B`` is not positive definite (nor ``W``): path 2 goes on at ``10 r0``.
+    None
+        ``W`` alone is, or is within :data:`DECISION_RTOL` of being, positive definite, or ``C^T C`` is zero: its
+        own test decides, as without this shortcut.
+    """
+    base = float(CtC.diagonal().max())
+    if base <= 0.0:
+        return None
+    r = 1e-3 * max(1.0, float(np.abs(W.diagonal()).max())) / base
+    B = _accepted(_plus_scaled(W, r, CtC, False), False)
+    if B is None:
+        return None, 0.0, r
+    C = C.toarray() if sp.issparse(C) else np.asarray(C)
+    L = B.cholesky
+    X, info = (lapack.dpotrs(L, C.T, lower=1) if L.flags.f_contiguous  # (read in place, as range_space_kkt does)
+               else lapack.dpotrs(L.T, C.T, lower=0))
+    if info != 0:
+        return None
+    M = C @ X
+    top = float(np.linalg.eigvalsh(0.5 * (M + M.T))[-1]) if M.shape[0] > 2 else _largest_eigenvalue(M)
+    if not top * r > 1.0 + DECISION_RTOL:
+        return None
+    return B, 0.0, r
+
+
+def _largest_eigenvalue(M: Array) -> float:
+    """The largest eigenvalue of the symmetric part of a 1 x 1 or 2 x 2 ``M``, in closed form (numpy's ``eigvalsh``
+    costs 5-25 us on one this small)."""
+    if M.shape[0] == 1:
+        return float(M[0, 0])
+    a, c, b = float(M[0, 0]), float(M[1, 1]), 0.5 * (float(M[0, 1]) + float(M[1, 0]))
+    return 0.5 * (a + c) + math.hypot(0.5 * (a - c), b)
 
 
 #: A sparse ``C^T C`` is used only while it has at most this many nonzeros per variable (a banded one, e.g. the

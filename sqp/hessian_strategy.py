@@ -109,6 +109,10 @@ class ConvexifiedExact:
         self.lam0 = np.zeros(problem.nonlinear.lb.size) if lam0 is None else lam0
         self.shift = 0.0
         self.weight = 0.0
+        # whether W is expected positive definite (tested alone first): at a start without multipliers W is the
+        # objective's Hessian (the guidewire's energy: positive definite); with them, and after a W that was not,
+        # W + r0 C^T C is tested first (one factorisation less when W is indefinite, the same answer)
+        self.definite = not np.any(self.lam0)
         self.rows: Array = np.zeros(0, dtype=np.intp)
 
     def initial(self, st: State) -> Any:
@@ -122,7 +126,8 @@ class ConvexifiedExact:
         if ev.hessian_nonfinite is not None:
             return None
         B, self.shift, self.weight = convexify(W, self.shift, equality_rows(self.problem, st.der.J, self.rows),
-                                               self.weight)
+                                               self.weight, self.definite)
+        self.definite = self.shift == 0.0 and self.weight == 0.0
         return B
 
     def multipliers(self, st: State, qp: QPStep) -> QPStep:

@@ -19,6 +19,7 @@ from sqp.iterate import Derivatives, Evaluator, State
 from sqp.kkt import inf_norm
 from sqp.multipliers import al_rows, equality_rows, newton_multipliers, nonlinear_lagrangian_gradient
 from sqp.problem import Problem
+from sqp.structured import FactoredHessian
 from sqp.subproblem import QPStep
 
 Array = NDArray[np.float64]
@@ -114,6 +115,10 @@ class ConvexifiedExact:
         # W + r0 C^T C is tested first (one factorisation less when W is indefinite, the same answer)
         self.definite = not np.any(self.lam0)
         self.rows: Array = np.zeros(0, dtype=np.intp)
+        rows = (problem.nonlinear, problem.linear)
+        self.equality_only = not (any(r.lower.size or r.upper.size for r in rows)
+                                  or np.isfinite(problem.lower).any() or np.isfinite(problem.upper).any())
+        self.factored: FactoredHessian | None = None
 
     def initial(self, st: State) -> Any:
         # (no matrix: :meth:`model` builds one from the exact Hessian before the first QP)
@@ -126,11 +131,17 @@ class ConvexifiedExact:
         if ev.hessian_nonfinite is not None:
             return None
         B, self.shift, self.weight = convexify(W, self.shift, equality_rows(self.problem, st.der.J, self.rows),
-                                               self.weight, self.definite)
+                                               self.weight, self.definite, self.equality_only)
         self.definite = self.shift == 0.0 and self.weight == 0.0
+        self.factored = B if isinstance(B, FactoredHessian) else None
         return B
 
     def multipliers(self, st: State, qp: QPStep) -> QPStep:
+        if self.factored is not None and self.factored.convexification is not None:
+            # (the QP needed the factored W convexified after all: its shift and weight, as if model had made it)
+            self.shift, self.weight = self.factored.convexification
+            self.definite = self.shift == 0.0 and self.weight == 0.0
+            self.factored = None
         if self.weight > 0.0 and qp.found and not qp.elastic:
             return newton_multipliers(self.problem, st, qp, self.rows, self.weight)
         return qp

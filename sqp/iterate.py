@@ -10,7 +10,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from sqp.hessian import DENSE_LIMIT
+from sqp.hessian import DENSE_LIMIT, STRUCTURED_MIN
 from sqp.kkt import max_violation
 from sqp.problem import NonlinearBlock, Problem, StartValues, call_user, check_jacobian_shape
 from sqp.subproblem import QPStep
@@ -196,10 +196,11 @@ class Evaluator:
         self.nhev += 1
         n = x.size
         self.hessian_nonfinite = None
-        # dense up to DENSE_LIMIT variables (cheaper than scipy.sparse's per-call overhead), sparse CSC above, whatever
+        # dense up to STRUCTURED_MIN variables (cheaper than scipy.sparse's per-call overhead), then up to DENSE_LIMIT
+        # in the objective Hessian's format (a sparse one may take the structured path), sparse CSC above, whatever
         # format each Hessian comes in
-        dense = n <= DENSE_LIMIT
         H = self._hessian("hess", call_user("hess", p.hess, x, self.where), n)
+        dense = n <= STRUCTURED_MIN or (n <= DENSE_LIMIT and not sp.issparse(H))
         W = _as_format(H, dense)
         start = 0
         for block in p.blocks:

@@ -122,11 +122,15 @@ class FactoredHessian(sp.csc_matrix):
     """
 
     factor: SymmetricFactor | None = None
-    _convexify: Callable[[], Any] | None = None
+    _convexify: Callable[[], tuple[Any, float, float]] | None = None
+    #: ``(delta, rho)`` of :meth:`convexified` once it ran (the shift and augmented-Lagrangian weight it used).
+    convexification: tuple[float, float] | None = None
 
     @classmethod
-    def wrap(cls, W: Any, factor: SymmetricFactor, convexify: Callable[[], Any]) -> FactoredHessian:
-        """``W`` (sparse) carrying ``factor`` and ``convexify() -> B`` (a positive-definite replacement)."""
+    def wrap(cls, W: Any, factor: SymmetricFactor, convexify: Callable[[], tuple[Any, float, float]]
+             ) -> FactoredHessian:
+        """``W`` (sparse) carrying ``factor`` and ``convexify() -> (B, delta, rho)`` (a positive-definite
+        replacement, as :func:`sqp.hessian.convexify` returns it)."""
         out = cls(sp.csc_matrix(W))
         out.sort_indices()
         out.factor = factor
@@ -141,7 +145,9 @@ class FactoredHessian(sp.csc_matrix):
         """``W`` when positive definite, else the general convexification of ``W`` (computed now)."""
         if self.positive_definite or self._convexify is None:
             return self
-        return self._convexify()
+        B, delta, rho = self._convexify()
+        self.convexification = (delta, rho)
+        return B
 
     def __reduce__(self) -> tuple[Any, ...]:
         return (sp.csc_matrix, ((self.data, self.indices, self.indptr), self.shape))

@@ -119,14 +119,15 @@ def _solve_both(monkeypatch, run):
     guessed = []
     real = hessian.convexify
 
-    def spy(W, shift=0.0, C=None, rho=0.0, alone_first=True):
+    def spy(W, shift=0.0, C=None, rho=0.0, alone_first=True, equality_only=False):
         guessed.append(not alone_first and rho == 0.0)
-        return real(W, shift, C, rho, alone_first)
+        return real(W, shift, C, rho, alone_first, equality_only)
 
     monkeypatch.setattr(hessian_strategy, "convexify", spy)
     new = run()
     monkeypatch.setattr(hessian_strategy, "convexify",
-                        lambda W, shift=0.0, C=None, rho=0.0, alone_first=True: real(W, shift, C, rho))
+                        lambda W, shift=0.0, C=None, rho=0.0, alone_first=True, equality_only=False:
+                        real(W, shift, C, rho, True, equality_only))
     old = run()
     return new, old, guessed
 

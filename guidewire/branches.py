@@ -16,9 +16,9 @@ is skipped. Each candidate is solved (at most :func:`candidate_iterations` itera
 about as fast as the first, a failing one is cut short) and the lowest energy kept, lower by more than
 :data:`ENERGY_TIE` (relative) to replace an earlier answer; a failed or shape-rejected candidate never replaces a
 success. Scenes whose tangents are all prescribed (every paper scene) solve once, as before, and so do answers
-from the full-space layout (above 200 bars): there a candidate solved from a given start took 9 s where the first
-solve took 0.17 s (two contacts 0.5 mm apart, 400 bars; not yet understood), so the multi-start is limited to the
-reduced program for now.
+from the full-space layout (wall scenes above 300 bars): there a candidate solved from a given start took 9 s where
+the first solve took 0.17 s (two contacts 0.5 mm apart, 400 bars; not yet understood), so the multi-start is limited
+to the reduced program for now.
 
 A mirror start changes a tangent's side of the chord; a branch can also differ in *how far* a free tangent turns. On
 a hand-written scene (a 70 mm wire pinned at s = 40 mm and clamped at its tip 15.7 mm from the pin) the default start

@@ -22,8 +22,10 @@ from .scene import Scene
 MAX_ROUNDS = 8
 
 #: ``layout="auto"`` uses the full-space program above this many bars for scenes with walls (see
-#: :func:`choose_layout`).
-FULL_SPACE_BARS = 200
+#: :func:`choose_layout`): :data:`sqp.DENSE_LIMIT`, the most the reduced program's dense wall rows stay with DAQP
+#: (measured with DAQP in the Hessian factor's coordinates, :data:`sqp.backends.LDP_MIN_VARIABLES`: Fig. 6a / 6b
+#: reduced 6.9 / 6.7 ms against full 13.7 / 16.3 ms at 200 bars, 14.1 / 13.7 against 20.8 / 20.5 ms at 300).
+FULL_SPACE_BARS = 300
 
 #: The damped-BFGS retry of :func:`solve` may take ``min(max_iter, max(FALLBACK_MIN_ITER, max_iter // 5))``
 #: iterations (it needed 12 where the exact-Hessian run stalled; an infeasible scene fails twice, the second time
@@ -44,7 +46,7 @@ def choose_layout(bars: int, hessian: str = "exact", scene: Scene | None = None)
     nodes, every row sparse) for wall scenes above, with the exact Hessian.
 
     Contact scenes (no walls, no vessel) have equality-only subproblems with a few dense rows and a banded energy
-    Hessian: above :data:`sqp.DENSE_LIMIT` the engine solves them by a structured KKT solve
+    Hessian: above :data:`sqp.hessian.STRUCTURED_MIN` the engine solves them by a structured KKT solve
     (:mod:`sqp.structured`), Newton's step in 3-4 iterations at every n. Measured, reduced against full in one
     process (medians of 5, BLAS one thread): Table 1 (π/4) 0.50x / 0.29x / 0.17x the time at 200 / 400 / 1600
     bars, Table 2 (π/4) 0.47x / 0.37x / 0.20x, Table 1 (-π/2) and Table 2 (π/2) alike. Wall rows are

@@ -161,7 +161,8 @@ def _prepare(solver: str, P: Any, G: Any, E: Any) -> tuple[Any, Any, Any]:
         conv = lambda M: None if M is None else sp.csc_matrix(M)  # noqa: E731
     else:
         conv = lambda M: None if M is None else (M.toarray() if sp.issparse(M) else np.asarray(M))  # noqa: E731
-    return conv(P), conv(G), conv(E)
+    # (DAQP keeps a CholeskyHessian's factor: sqp.backends solves a large QP in the factor's coordinates)
+    return P if solver == "daqp" and isinstance(P, np.ndarray) else conv(P), conv(G), conv(E)
 
 
 Backends = Sequence[tuple[str, dict[str, Any]]]

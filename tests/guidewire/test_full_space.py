@@ -204,9 +204,9 @@ def test_wire_pushed_head_on_into_a_near_wall():
     20 turns) and the first QPs are elastic (kept sparse in the full space). Both formulations find the same shape."""
     wire = Wire(300.0, 300, moment_of_inertia=0.01816)
     scene = Scene(wire, Base((0.0, 0.0), 0.0), walls=(Wall((1.0, 0.0), 10.0),))
-    full = solve(scene)
-    reduced = solve(scene, layout="reduced")
+    full = solve(scene, layout="full")
+    reduced = solve(scene)
     assert full.success and reduced.success, (full.message, reduced.message)
-    assert full.layout == "full"
+    assert full.layout == "full" and reduced.layout == "reduced"  # (300 bars: FULL_SPACE_BARS, reduced by default)
     assert full.energy == pytest.approx(reduced.energy, rel=1e-8)
     assert np.max(full.nodes[:, 0]) <= 10.0 + 1e-6 and np.max(reduced.nodes[:, 0]) <= 10.0 + 1e-6

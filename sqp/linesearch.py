@@ -43,10 +43,12 @@ class Search:
     soc: bool = False
     nonfinite: str | None = None
     mu: Array | None = None
+    #: The merit function's rounding noise as this search found it (0 when it saw none; see :func:`line_search`).
+    noise: float = 0.0
 
 
 def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d: Array, mu: Array,
-                v_lin: Array | None = None) -> Search:
+                v_lin: Array | None = None, noise: float = 0.0) -> Search:
     """Armijo backtracking on the L1 merit function with penalties ``mu``, with one second-order correction of the
     full step.
 
@@ -54,6 +56,17 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
     (objective, constraint, gradient or Jacobian) at a trial point shortens the step. Fails (``pt is None``) when no
     step length down to :data:`MIN_STEP_LENGTH` decreases the merit function enough. ``mu`` is not modified.
     ``v_lin``: the rows' violations linearised at ``d`` (:attr:`~sqp.subproblem.QPStep.v_lin`), when known.
+
+    ``noise``: the merit function's rounding noise found by an earlier search (0: none), allowed twice over in the
+    sufficient-decrease test (the noise-tolerant Armijo test of Berahas, Byrd & Nocedal, SIAM J. Optim. 29, 2019).
+    When the backtracking fails, the departures ``|phi(alpha) - phi0 - alpha D|`` of the shortened steps, which a
+    smooth merit function keeps at ``O(alpha^2)``, measure that noise; if it exceeds even the full step's predicted
+    decrease ``|D|``, the merit function cannot tell good steps from bad ones (a value summing large terms that
+    cancel near the solution: HS268's constant 14463 with ``f* = 0``) and the full step is taken when its merit is
+    within twice the noise of ``phi0`` (a merit function equal to ``phi0`` at every trial, its changes below its
+    resolution, has a noise of at least ``|D|``); the search reports the noise (:attr:`Search.noise`) for the next
+    ones.
+    Progress is then judged by the KKT residuals, which do not suffer the cancellation.
     """
     rows = problem.nonlinear
     # (the violations at x and of the linearisation at x + d, once: merit(), directional_derivative() in one)
@@ -75,18 +88,26 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
     tried_soc = not options.second_order_correction or rows.lb.size == 0
     nonfinite: str | None = None
     tried = alpha
+    full: tuple[Point, float] | None = None  # the full step and its merit
+    seen = 0.0  # the largest |phi(alpha) - phi0 - alpha D| over the shortened steps
+    flat = True  # every merit value so far equal to phi0: a change of |D| is below the merit's resolution
     while alpha >= MIN_STEP_LENGTH:
         trial = trial_point(problem, ev, st.pt.x, d if alpha == 1.0 else alpha * d)  # (1.0 * d is d)
         if (trial.x == st.pt.x).all():
             # the step is below the rounding level of x: no progress is possible along d
-            return Search(alpha=tried, nonfinite=nonfinite, mu=mu)
+            break
         tried = alpha
         nonfinite = None if trial.finite else ev.nonfinite_source(trial)
         phi = merit_at(trial, mu)
-        if phi <= phi0 + ARMIJO * alpha * D:
+        flat = flat and phi == phi0
+        if alpha == 1.0:
+            full = (trial, phi)
+        elif np.isfinite(phi):
+            seen = max(seen, abs(phi - phi0 - alpha * D))
+        if phi <= phi0 + ARMIJO * alpha * D + 2.0 * noise:
             der = ev.derivatives(trial)
             if der.finite:
-                return Search(trial, der, alpha, False, mu=mu)
+                return Search(trial, der, alpha, False, mu=mu, noise=noise)
             nonfinite, phi = ev.nonfinite_source(trial, der), np.inf  # shorten the step as for a NaN value
         if not tried_soc and _curvature_rejected(trial, v_lin, mu, phi0 + ARMIJO * D):
             tried_soc = True
@@ -96,18 +117,34 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
                 if der.finite:
                     return Search(corrected, der, 1.0, True, mu=mu)
         alpha = next_step_length(alpha, phi0, D, phi)
-    return Search(alpha=tried, nonfinite=nonfinite, mu=mu)
+    return (_within_noise(ev, full, phi0, D, max(seen, noise, abs(D) if flat else 0.0), mu)
+            or Search(alpha=tried, nonfinite=nonfinite, mu=mu))
 
 
-def merit_search(problem: Problem, options: Options, ev: Evaluator, st: State, qp: QPStep, mu: Array) -> Search:
+def _within_noise(ev: Evaluator, full: tuple[Point, float] | None, phi0: float, D: float, seen: float,
+                  mu: Array) -> Search | None:
+    """After a failed backtracking: the full step, carrying the noise ``seen``, when that noise exceeds the full
+    step's predicted decrease ``|D|`` and the step's merit is within twice of it of ``phi0`` (see
+    :func:`line_search`); else None."""
+    if full is None or not (seen > 0.0 and abs(D) <= seen):
+        return None
+    trial, phi = full
+    if not (trial.finite and phi <= phi0 + 2.0 * seen):
+        return None
+    der = ev.derivatives(trial)
+    return Search(trial, der, 1.0, False, mu=mu, noise=seen) if der.finite else None
+
+
+def merit_search(problem: Problem, options: Options, ev: Evaluator, st: State, qp: QPStep, mu: Array,
+                 noise: float = 0.0) -> Search:
     """:func:`line_search` along ``qp.d`` with the penalties ``mu``; when it fails with penalties above
     :data:`PENALTY_RESET_FACTOR` times the QP's largest multiplier, once more with the penalties restarted from the
     QP's multipliers (Eq. 13 from scratch)."""
-    search = line_search(problem, options, ev, st, qp.d, mu, qp.v_lin)
+    search = line_search(problem, options, ev, st, qp.d, mu, qp.v_lin, noise)
     assert search.mu is not None
     if search.pt is None and np.max(search.mu, initial=0.0) > PENALTY_RESET_FACTOR * max(
             float(np.max(np.abs(qp.lam_nl), initial=0.0)), 1e-12):
-        search = line_search(problem, options, ev, st, qp.d, np.abs(qp.lam_nl), qp.v_lin)
+        search = line_search(problem, options, ev, st, qp.d, np.abs(qp.lam_nl), qp.v_lin, noise)
     return search
 
 

@@ -230,6 +230,7 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
     monitor = Monitor(problem, options.tol, options.max_iter, st.pt, st.pt.maxcv)
     history: list[IterationRecord] = []
     rho = 0.0  # the elastic QP's slack price
+    noise = 0.0  # the merit function's rounding noise, once a line search has found it
     stop = Stop(Status.MAX_ITER)
     if options.verbose:
         print(HEADER)
@@ -245,7 +246,8 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
         if (stop := monitor.after_qp(options, st, qp, nit)) is not None:  # KKT test
             break
         mu = penalties(problem, st, qp)  # penalty update (Eq. 13)
-        search = merit_search(problem, options, ev, st, qp, mu)  # line search on the L1 merit function (Eq. 12)
+        search = merit_search(problem, options, ev, st, qp, mu, noise)  # line search on the L1 merit (Eq. 12)
+        noise = max(noise, search.noise)
         st = State(st.pt, st.der, st.B, search.mu, qp)
         if (stop := monitor.after_search(st, search.pt, search.nonfinite, search.alpha, nit)) is not None:
             break

@@ -165,9 +165,10 @@ def cases() -> list[StabilityCase]:
         StabilityCase("θ_B = +(π − 0.01)", lambda: table1(pi - 0.01)),
         StabilityCase("θ_B = −(π − 0.01)", lambda: table1(-(pi - 0.01))),
         StabilityCase("two contacts one bar apart (s = 50, 51; n = 100)", one_bar_apart,
-                      note="the rigid bar between the two contacts must span their chord exactly, and the continuum "
-                      "chord is 1.3e-4 mm shorter than the 1 mm bar: the discrete problem is infeasible by a hair; "
-                      "Scene.check_feasible says so before solving"),
+                      note="one rigid bar between the two contacts would have to span their chord exactly (the "
+                      "continuum chord is 1.3e-4 mm shorter than 1 mm: infeasible by a hair); the chain bridges two "
+                      "prescribed positions closer than that with two short bars that can bend (guidewire.chain."
+                      "place_bars), so the scene is solved, in agreement with the continuum"),
         StabilityCase("wavy: 12 contacts on y = 5 sin(2πx/40)", wavy),
         StabilityCase("wall x ≤ 10 bends a 300 mm wire (n = 300)", wall_bend),
         StabilityCase("wall as above, tilted by 0.05 rad", lambda: wall_bend(tilt=0.05)),

@@ -201,10 +201,15 @@ def _solve(
 
 
 def _declared_infeasible(sol: qpsolvers.Solution) -> bool:
-    """Whether the backend certified primal infeasibility (no point in retrying with looser tolerances)."""
-    info = sol.extras.get("info") if isinstance(sol.extras, dict) else None
-    status = str(getattr(info, "status", "")).lower()
-    return "infeasible" in status and "inaccurate" not in status
+    """Whether the backend certified primal infeasibility (no point in retrying with looser tolerances, nor in
+    asking the next backend): OSQP's and PIQP's ``info.status``, Clarabel's ``status`` (``PrimalInfeasible``, not
+    ``AlmostPrimalInfeasible``); a dual infeasibility is not one. DAQP's exit flag -1 is not trusted as a
+    certificate: it also ends elastic QPs, which are feasible by construction (a contradictory pair of equalities,
+    tests/sqp/test_faults.py). Measured on the aortic arch's cold solve at 250 bars: Clarabel's two attempts at each
+    of 9 inconsistent QPs cost 0.6 s of 1.8 s."""
+    extras = sol.extras if isinstance(sol.extras, dict) else {}
+    status = str(getattr(extras.get("info"), "status", "") or extras.get("status", "")).lower()
+    return "infeasible" in status and "inaccurate" not in status and "almost" not in status and "dual" not in status
 
 
 @contextlib.contextmanager

@@ -17,7 +17,7 @@ import scipy.sparse as sp
 from _environment import ipopt_available
 from _problems import Problem, as_dicts, dense, has_exact_hessians, trust_constr_constraints
 from _structure_limit import run_structure_limit
-from scipy.optimize import minimize
+from scipy.optimize import LinearConstraint, minimize
 
 #: Default iteration caps of the peers (generous: SLSQP needs about n iterations on the guidewire problems).
 PEER_MAX_ITER = {"SLSQP": 5000, "trust-constr": 1000, "IPOPT": 3000}
@@ -118,11 +118,26 @@ def run_trust_constr(problem: Problem, *, maxiter: int = PEER_MAX_ITER["trust-co
     """scipy trust-constr: exact Hessians when offered, else the objective's (scipy's BFGS without) and BFGS for the
     constraints; ``linear_as_dicts``: see :func:`trust_constr_constraints`."""
     cons = trust_constr_constraints(problem, has_exact_hessians(problem), linear_as_dicts=linear_as_dicts)
+    options: dict[str, Any] = {"maxiter": maxiter}
+    if len(set(_sparse_jacobians(cons, problem.x0))) > 1:
+        options["sparse_jacobian"] = True  # (trust-constr refuses a mixture: sparse for all, as it recommends)
     fun, count = counted(problem.fun)
     start = time.perf_counter()
     res = minimize(fun, problem.x0, jac=problem.jac, hess=problem.hess, bounds=problem.bounds, constraints=cons,
-                   method="trust-constr", options={"maxiter": maxiter})
+                   method="trust-constr", options=options)
     return _result(res, count, time.perf_counter() - start)
+
+
+def _sparse_jacobians(cons: Sequence[Any], x0: Any) -> list[bool]:
+    """Per constraint object, whether its Jacobian is a scipy sparse matrix (a ``LinearConstraint``'s ``A``, a
+    ``NonlinearConstraint``'s ``jac`` at ``x0``)."""
+    out = []
+    for con in cons:
+        if isinstance(con, LinearConstraint):
+            out.append(sp.issparse(con.A))
+        elif callable(getattr(con, "jac", None)):
+            out.append(sp.issparse(con.jac(np.asarray(x0, dtype=float))))
+    return out
 
 
 def run_ipopt(problem: Problem, *, max_iter: int = PEER_MAX_ITER["IPOPT"], sparse: bool = True) -> dict[str, Any]:

@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 from scipy.linalg import lapack
 
 from sqp import structured
+from sqp.structured import SPARSE_GRAM_DENSITY
 
 Array = NDArray[np.float64]
 
@@ -229,10 +230,6 @@ def _largest_eigenvalue(M: Array) -> float:
     return 0.5 * (a + c) + math.hypot(0.5 * (a - c), b)
 
 
-#: A sparse ``C^T C`` is used only while it has at most this many nonzeros per variable (a banded one, e.g. the
-#: guidewire's full-space closure rows, has about 5); a denser one (dense rows stored sparse) would make the sparse
-#: factorisation as costly as a dense one.
-SPARSE_GRAM_DENSITY = 20
 
 
 def _gram(C: Any, is_sparse: bool) -> Any:

@@ -95,7 +95,9 @@ def test_candidate_structure():
     W = tridiagonal(400)
     assert structured.candidate(W, np.ones((3, 400)))
     assert structured.candidate(W, None)
-    assert not structured.candidate(W, sp.csr_matrix(np.ones((3, 400))))  # sparse rows: the AL path
+    # dense rows stored sparse: their Gram matrix is dense, the AL path could only shift W (structured path)
+    assert structured.candidate(W, sp.csr_matrix(np.ones((3, 400))))
+    assert not structured.candidate(W, sp.csr_matrix(sp.eye(3, 400)))  # sparse rows, sparse Gram: the AL path
     assert not structured.candidate(W, np.ones((structured.MAX_SCHUR_ROWS + 1, 400)))
     assert not structured.candidate(W.toarray(), np.ones((3, 400)))
     wide = sp.csc_matrix(np.ones((400, 400)))

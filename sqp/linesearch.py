@@ -23,6 +23,10 @@ Array = NDArray[np.float64]
 #: Smallest step length tried by the backtracking line search.
 MIN_STEP_LENGTH = 1e-10
 
+#: Only steps this short measure the merit function's noise (:func:`line_search`): there a smooth merit function's
+#: departure from its linear model, ``O(alpha^2)``, is at most 1e-4 of the full step's.
+NOISE_STEP_LENGTH = 1e-2
+
 #: A failed search is repeated with the penalties reset to the QP's multipliers when they exceed the largest of those
 #: by this factor: penalties inflated by early, poorly scaled multipliers (Powell's update, Eq. 13, only lets them
 #: fall by halves) make the merit function reject every step.
@@ -59,14 +63,14 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
 
     ``noise``: the merit function's rounding noise found by an earlier search (0: none), allowed twice over in the
     sufficient-decrease test (the noise-tolerant Armijo test of Berahas, Byrd & Nocedal, SIAM J. Optim. 29, 2019).
-    When the backtracking fails, the departures ``|phi(alpha) - phi0 - alpha D|`` of the shortened steps, which a
-    smooth merit function keeps at ``O(alpha^2)``, measure that noise; if it exceeds even the full step's predicted
-    decrease ``|D|``, the merit function cannot tell good steps from bad ones (a value summing large terms that
-    cancel near the solution: HS268's constant 14463 with ``f* = 0``) and the full step is taken when its merit is
-    within twice the noise of ``phi0`` (a merit function equal to ``phi0`` at every trial, its changes below its
-    resolution, has a noise of at least ``|D|``); the search reports the noise (:attr:`Search.noise`) for the next
-    ones.
-    Progress is then judged by the KKT residuals, which do not suffer the cancellation.
+    When the backtracking fails, the departures ``|phi(alpha) - phi0 - alpha D|`` of the short steps
+    (``alpha <= NOISE_STEP_LENGTH``), which a smooth merit function keeps at ``O(alpha^2)``, measure that noise. If
+    the departures of all the shortened steps exceed even the full step's predicted decrease ``|D|``, the merit
+    function cannot tell good steps from bad ones (a value summing large terms that cancel near the solution:
+    HS268's constant 14463 with ``f* = 0``), and the full step is taken when its merit is within twice the noise of
+    ``phi0`` (a merit function equal to ``phi0`` at every trial, its changes below its resolution, has a noise of
+    at least ``|D|``); the search reports the noise (:attr:`Search.noise`) for the next ones. Progress is then
+    judged by the KKT residuals, which do not suffer the cancellation.
     """
     rows = problem.nonlinear
     # (the violations at x and of the linearisation at x + d, once: merit(), directional_derivative() in one)
@@ -89,7 +93,8 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
     nonfinite: str | None = None
     tried = alpha
     full: tuple[Point, float] | None = None  # the full step and its merit
-    seen = 0.0  # the largest |phi(alpha) - phi0 - alpha D| over the shortened steps
+    seen = 0.0  # the largest |phi(alpha) - phi0 - alpha D| over the short steps (alpha <= NOISE_STEP_LENGTH)
+    spread = 0.0  # the same over every shortened step
     flat = True  # every merit value so far equal to phi0: a change of |D| is below the merit's resolution
     while alpha >= MIN_STEP_LENGTH:
         trial = trial_point(problem, ev, st.pt.x, d if alpha == 1.0 else alpha * d)  # (1.0 * d is d)
@@ -103,7 +108,10 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
         if alpha == 1.0:
             full = (trial, phi)
         elif np.isfinite(phi):
-            seen = max(seen, abs(phi - phi0 - alpha * D))
+            departure = abs(phi - phi0 - alpha * D)
+            spread = max(spread, departure)
+            if alpha <= NOISE_STEP_LENGTH:
+                seen = max(seen, departure)
         if phi <= phi0 + ARMIJO * alpha * D + 2.0 * noise:
             der = ev.derivatives(trial)
             if der.finite:
@@ -117,16 +125,18 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
                 if der.finite:
                     return Search(corrected, der, 1.0, True, mu=mu)
         alpha = next_step_length(alpha, phi0, D, phi)
-    return (_within_noise(ev, full, phi0, D, max(seen, noise, abs(D) if flat else 0.0), mu)
+    floor = abs(D) if flat else 0.0
+    return (_within_noise(ev, full, phi0, D, max(seen, noise, floor), max(spread, noise, floor), mu)
             or Search(alpha=tried, nonfinite=nonfinite, mu=mu))
 
 
 def _within_noise(ev: Evaluator, full: tuple[Point, float] | None, phi0: float, D: float, seen: float,
-                  mu: Array) -> Search | None:
-    """After a failed backtracking: the full step, carrying the noise ``seen``, when that noise exceeds the full
-    step's predicted decrease ``|D|`` and the step's merit is within twice of it of ``phi0`` (see
-    :func:`line_search`); else None."""
-    if full is None or not (seen > 0.0 and abs(D) <= seen):
+                  spread: float, mu: Array) -> Search | None:
+    """After a failed backtracking: the full step, carrying the noise ``seen``, when the departures from the linear
+    model (``spread``, over every shortened step) exceed the full step's predicted decrease ``|D|`` and the step's
+    merit is within twice the noise ``seen`` (measured on the short steps only, where curvature cannot pose as
+    noise) of ``phi0`` (see :func:`line_search`); else None."""
+    if full is None or not (seen > 0.0 and abs(D) <= spread):
         return None
     trial, phi = full
     if not (trial.finite and phi <= phi0 + 2.0 * seen):

@@ -209,7 +209,6 @@ def _daqp(problem: qpsolvers.Problem, initvals: Any, **options: Any) -> qpsolver
         x = lapack.dtrtrs(L, u, lower=1, trans=1)[0] if exitflag > 0 else u
     sol = qpsolvers.Solution(problem)
     sol.found = exitflag > 0
-    sol.extras = {"exitflag": exitflag}  # (-1: DAQP found the QP infeasible, not trusted as a certificate)
     if sol.found:
         lam = info["lam"]
         sol.x, sol.obj = x, obj

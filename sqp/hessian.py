@@ -230,8 +230,6 @@ def _largest_eigenvalue(M: Array) -> float:
     return 0.5 * (a + c) + math.hypot(0.5 * (a - c), b)
 
 
-
-
 def _gram(C: Any, is_sparse: bool) -> Any:
     """``C^T C`` for the augmented-Lagrangian term: dense for a dense ``W``; sparse CSC for a sparse ``W`` and a
     sparse ``C`` whose product stays sparse; otherwise None (no term)."""

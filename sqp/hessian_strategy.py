@@ -115,9 +115,6 @@ class ConvexifiedExact:
         # W + r0 C^T C is tested first (one factorisation less when W is indefinite, the same answer)
         self.definite = not np.any(self.lam0)
         self.rows: Array = np.zeros(0, dtype=np.intp)
-        rows = (problem.nonlinear, problem.linear)
-        self.equality_only = not (any(r.lower.size or r.upper.size for r in rows)
-                                  or np.isfinite(problem.lower).any() or np.isfinite(problem.upper).any())
         self.factored: FactoredHessian | None = None
 
     def initial(self, st: State) -> Any:
@@ -131,7 +128,7 @@ class ConvexifiedExact:
         if ev.hessian_nonfinite is not None:
             return None
         B, self.shift, self.weight = convexify(W, self.shift, equality_rows(self.problem, st.der.J, self.rows),
-                                               self.weight, self.definite, self.equality_only)
+                                               self.weight, self.definite, self.problem.equality_only)
         self.definite = self.shift == 0.0 and self.weight == 0.0
         self.factored = B if isinstance(B, FactoredHessian) else None
         return B

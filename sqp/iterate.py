@@ -74,11 +74,6 @@ class Evaluator:
         self.nit = 0
         #: Which Hessian returned NaN or inf in the last :meth:`lagrangian_hessian` (None when all were finite).
         self.hessian_nonfinite: str | None = None
-        rows = (problem.nonlinear, problem.linear)
-        # no inequality rows and no bounds: only then may a sparse W between STRUCTURED_MIN and DENSE_LIMIT take
-        # the structured KKT path (convexify), so only then is it kept sparse there
-        self._equality_only = not (any(r.lower.size or r.upper.size for r in rows)
-                                   or np.isfinite(problem.lower).any() or np.isfinite(problem.upper).any())
 
     @property
     def where(self) -> str:
@@ -205,7 +200,7 @@ class Evaluator:
         # dense too unless the problem is equality-only and its objective Hessian sparse (the structured path),
         # sparse CSC above, whatever format each Hessian comes in
         H = self._hessian("hess", call_user("hess", p.hess, x, self.where), n)
-        dense = n <= STRUCTURED_MIN or (n <= DENSE_LIMIT and not (self._equality_only and sp.issparse(H)))
+        dense = n <= STRUCTURED_MIN or (n <= DENSE_LIMIT and not (p.equality_only and sp.issparse(H)))
         W = _as_format(H, dense)
         start = 0
         for block in p.blocks:

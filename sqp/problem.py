@@ -200,6 +200,11 @@ class Problem:
     def has_bounds(self) -> bool:
         return bool(np.any(np.isfinite(self.lower)) or np.any(np.isfinite(self.upper)))
 
+    @cached_property
+    def equality_only(self) -> bool:
+        """No inequality side on any row and no finite bound: the problems whose QPs the structured KKT path serves."""
+        return not (any(r.lower.size or r.upper.size for r in (self.nonlinear, self.linear)) or self.has_bounds)
+
     def stack_nonlinear_multipliers(self, per_constraint: Any) -> Array:
         """The nonlinear rows' multipliers from one array per user constraint (the inverse of the nonlinear part of
         :meth:`split_multipliers`); ValueError when the shapes do not match."""

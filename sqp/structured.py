@@ -112,8 +112,9 @@ def candidate(W: Any, C: Any) -> bool:
     """Whether the structured path applies to the sparse Hessian ``W`` and the rows ``C`` the QP keeps as
     equalities: ``W`` banded (:data:`MAX_BANDWIDTH`), ``C`` absent or a few (:data:`MAX_SCHUR_ROWS`) dense rows.
 
-    (Sparse rows keep :func:`sqp.hessian.convexify`'s augmented-Lagrangian path, whose multipliers the loop
-    corrects; dense ones would get only its identity shift, which changes the step.)"""
+    (Sparse rows whose Gram matrix stays sparse keep :func:`sqp.hessian.convexify`'s augmented-Lagrangian path,
+    whose multipliers the loop corrects; dense rows, however stored, would get only its identity shift, which
+    changes the step.)"""
     if not sp.issparse(W) or W.shape[0] < 2:
         return False
     if C is not None and C.shape[0] > min(MAX_SCHUR_ROWS, W.shape[0] // 4):

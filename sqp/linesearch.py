@@ -5,17 +5,19 @@ functions of the state and the penalties, returning what they found (the evaluat
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
 
 from sqp.iterate import Derivatives, Evaluator, Point, State
 from sqp.merit import ARMIJO, merit_at, next_step_length
+from sqp.noise import noise_along
 from sqp.options import Options
 from sqp.problem import Problem
 from sqp.step import second_order_correction, trial_point
 from sqp.subproblem import QPStep
+from sqp.termination import negligible
 
 Array = NDArray[np.float64]
 
@@ -23,9 +25,9 @@ Array = NDArray[np.float64]
 #: Smallest step length tried by the backtracking line search.
 MIN_STEP_LENGTH = 1e-10
 
-#: Only steps this short measure the merit function's noise (:func:`line_search`): there a smooth merit function's
-#: departure from its linear model, ``O(alpha^2)``, is at most 1e-4 of the full step's.
-NOISE_STEP_LENGTH = 1e-2
+#: The sufficient-decrease test allows this much rounding relative to ``|phi0|`` (IPOPT's comparisons ``lhs <= rhs``
+#: of its line search allow ``10 eps_mach |phi0|``): a change below the resolution of ``phi0`` proves nothing.
+ROUNDING_RELAXATION = 10.0 * np.finfo(float).eps
 
 #: A failed search is repeated with the penalties reset to the QP's multipliers when they exceed the largest of those
 #: by this factor: penalties inflated by early, poorly scaled multipliers (Powell's update, Eq. 13, only lets them
@@ -54,23 +56,21 @@ class Search:
 def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d: Array, mu: Array,
                 v_lin: Array | None = None, noise: float = 0.0) -> Search:
     """Armijo backtracking on the L1 merit function with penalties ``mu``, with one second-order correction of the
-    full step.
+    full step, tolerant of the merit function's noise.
 
     A point is accepted only when its values and its derivatives are finite: NaN or inf from any user function
-    (objective, constraint, gradient or Jacobian) at a trial point shortens the step. Fails (``pt is None``) when no
-    step length down to :data:`MIN_STEP_LENGTH` decreases the merit function enough. ``mu`` is not modified.
+    (objective, constraint, gradient or Jacobian) at a trial point shortens the step. ``mu`` is not modified.
     ``v_lin``: the rows' violations linearised at ``d`` (:attr:`~sqp.subproblem.QPStep.v_lin`), when known.
 
-    ``noise``: the merit function's rounding noise found by an earlier search (0: none), allowed twice over in the
-    sufficient-decrease test (the noise-tolerant Armijo test of Berahas, Byrd & Nocedal, SIAM J. Optim. 29, 2019).
-    When the backtracking fails, the departures ``|phi(alpha) - phi0 - alpha D|`` of the short steps
-    (``alpha <= NOISE_STEP_LENGTH``), which a smooth merit function keeps at ``O(alpha^2)``, measure that noise. If
-    the departures of all the shortened steps exceed even the full step's predicted decrease ``|D|``, the merit
-    function cannot tell good steps from bad ones (a value summing large terms that cancel near the solution:
-    HS268's constant 14463 with ``f* = 0``), and the full step is taken when its merit is within twice the noise of
-    ``phi0`` (a merit function equal to ``phi0`` at every trial, its changes below its resolution, has a noise of
-    at least ``|D|``); the search reports the noise (:attr:`Search.noise`) for the next ones. Progress is then
-    judged by the KKT residuals, which do not suffer the cancellation.
+    Noise: ``noise`` is a bound ``eps_f`` on the merit function's noise found by an earlier search (0: none), and the
+    sufficient-decrease test is relaxed by ``2 eps_f`` (the noise-tolerant Armijo test of Berahas, Byrd & Nocedal,
+    SIAM J. Optim. 29, 2019). When backtracking fails down to :data:`MIN_STEP_LENGTH` with finite values, the
+    merit function's noise along ``d`` is estimated from its values on a small stencil (Moré & Wild's ECnoise,
+    :func:`sqp.noise.noise_along`); if that bound exceeds ``noise`` the backtracking is repeated once with it. A
+    step whose predicted decrease is below the noise is then taken on the evidence of the values being within their
+    noise, and progress is judged by the KKT residuals, computed from the derivatives, which do not suffer the
+    cancellation. A failure with noise-free values (wrong derivatives, a step that is not a descent direction) is
+    still a failure (``pt is None``). The bound used is returned (:attr:`Search.noise`) for the next searches.
     """
     rows = problem.nonlinear
     # (the violations at x and of the linearisation at x + d, once: merit(), directional_derivative() in one)
@@ -88,14 +88,58 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
             D = float(gd + mu @ (v_lin - v0))
         if D >= 0.0:
             return Search(mu=mu)
+    search, full = _backtrack(problem, options, ev, st, d, mu, v_lin, phi0, D, noise)
+    if not _noise_suspected(st, search, full):
+        return search
+    assert full is not None
+    bound = _merit_noise(problem, ev, st, d, mu, full)
+    if bound <= noise:
+        return search
+    if search.pt is None:
+        return _backtrack(problem, options, ev, st, d, mu, v_lin, phi0, D, bound)[0]
+    # a short step was accepted: when the full step is within the noise found, its rejection was the noise's
+    if merit_at(full, mu) <= phi0 + ARMIJO * D + 2.0 * bound:
+        der = ev.derivatives(full)
+        if der.finite:
+            return Search(full, der, 1.0, False, mu=mu, noise=bound)
+    return replace(search, noise=bound)
+
+
+def _noise_suspected(st: State, search: Search, full: Point | None) -> bool:
+    """Whether a search's outcome may be the merit function's noise: no step accepted though every value was
+    finite, or only a shortened step that changes ``x`` by no more than rounding does (:func:`negligible`)."""
+    if full is None or not full.finite or search.nonfinite is not None:
+        return False
+    if search.pt is None:
+        return True
+    return search.alpha < 1.0 and negligible(st.pt.x, search.pt.x)
+
+
+def _merit_noise(problem: Problem, ev: Evaluator, st: State, d: Array, mu: Array, full: Point) -> float:
+    """A bound on the merit function's noise along ``d``: the objective's noise plus the penalties times the
+    constraint values' noise (a violation changes by no more than its row's value), each estimated on its own
+    (:func:`sqp.noise.noise_along`; the merit's kinks where a row turns active would pose as noise)."""
+
+    def values_at(alpha: float) -> Array | None:
+        pt = trial_point(problem, ev, st.pt.x, alpha * d)
+        return np.concatenate(([pt.f], pt.c)) if pt.finite else None
+
+    slopes = np.concatenate(([float(st.der.g @ d)], np.asarray(st.der.J @ d).ravel()))
+    bounds, _ = noise_along(values_at, np.concatenate(([st.pt.f], st.pt.c)), slopes,
+                            np.concatenate(([full.f], full.c)))
+    return float(bounds[0] + mu @ bounds[1:])
+
+
+def _backtrack(problem: Problem, options: Options, ev: Evaluator, st: State, d: Array, mu: Array, v_lin: Array,
+               phi0: float, D: float, noise: float) -> tuple[Search, Point | None]:
+    """Backtracking from the full step with the Armijo test relaxed by ``2 noise``, and one second-order correction
+    of the full step; the search's result and the full step's point (None when it was not evaluated)."""
     alpha = 1.0
-    tried_soc = not options.second_order_correction or rows.lb.size == 0
+    tried_soc = not options.second_order_correction or problem.nonlinear.lb.size == 0
     nonfinite: str | None = None
     tried = alpha
-    full: tuple[Point, float] | None = None  # the full step and its merit
-    seen = 0.0  # the largest |phi(alpha) - phi0 - alpha D| over the short steps (alpha <= NOISE_STEP_LENGTH)
-    spread = 0.0  # the same over every shortened step
-    flat = True  # every merit value so far equal to phi0: a change of |D| is below the merit's resolution
+    full: Point | None = None
+    relax = 2.0 * noise + ROUNDING_RELAXATION * abs(phi0)
     while alpha >= MIN_STEP_LENGTH:
         trial = trial_point(problem, ev, st.pt.x, d if alpha == 1.0 else alpha * d)  # (1.0 * d is d)
         if (trial.x == st.pt.x).all():
@@ -104,45 +148,22 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
         tried = alpha
         nonfinite = None if trial.finite else ev.nonfinite_source(trial)
         phi = merit_at(trial, mu)
-        flat = flat and phi == phi0
         if alpha == 1.0:
-            full = (trial, phi)
-        elif np.isfinite(phi):
-            departure = abs(phi - phi0 - alpha * D)
-            spread = max(spread, departure)
-            if alpha <= NOISE_STEP_LENGTH:
-                seen = max(seen, departure)
-        if phi <= phi0 + ARMIJO * alpha * D + 2.0 * noise:
+            full = trial
+        if phi <= phi0 + ARMIJO * alpha * D + relax:
             der = ev.derivatives(trial)
             if der.finite:
-                return Search(trial, der, alpha, False, mu=mu, noise=noise)
+                return Search(trial, der, alpha, False, mu=mu, noise=noise), full
             nonfinite, phi = ev.nonfinite_source(trial, der), np.inf  # shorten the step as for a NaN value
-        if not tried_soc and _curvature_rejected(trial, v_lin, mu, phi0 + ARMIJO * D):
+        if not tried_soc and _curvature_rejected(trial, v_lin, mu, phi0 + ARMIJO * D + relax):
             tried_soc = True
             corrected = second_order_correction(problem, options, ev, st, d, trial)
-            if corrected is not None and merit_at(corrected, mu) <= phi0 + ARMIJO * D:
+            if corrected is not None and merit_at(corrected, mu) <= phi0 + ARMIJO * D + relax:
                 der = ev.derivatives(corrected)
                 if der.finite:
-                    return Search(corrected, der, 1.0, True, mu=mu)
+                    return Search(corrected, der, 1.0, True, mu=mu, noise=noise), full
         alpha = next_step_length(alpha, phi0, D, phi)
-    floor = abs(D) if flat else 0.0
-    return (_within_noise(ev, full, phi0, D, max(seen, noise, floor), max(spread, noise, floor), mu)
-            or Search(alpha=tried, nonfinite=nonfinite, mu=mu))
-
-
-def _within_noise(ev: Evaluator, full: tuple[Point, float] | None, phi0: float, D: float, seen: float,
-                  spread: float, mu: Array) -> Search | None:
-    """After a failed backtracking: the full step, carrying the noise ``seen``, when the departures from the linear
-    model (``spread``, over every shortened step) exceed the full step's predicted decrease ``|D|`` and the step's
-    merit is within twice the noise ``seen`` (measured on the short steps only, where curvature cannot pose as
-    noise) of ``phi0`` (see :func:`line_search`); else None."""
-    if full is None or not (seen > 0.0 and abs(D) <= spread):
-        return None
-    trial, phi = full
-    if not (trial.finite and phi <= phi0 + 2.0 * seen):
-        return None
-    der = ev.derivatives(trial)
-    return Search(trial, der, 1.0, False, mu=mu, noise=seen) if der.finite else None
+    return Search(alpha=tried, nonfinite=nonfinite, mu=mu, noise=noise), full
 
 
 def merit_search(problem: Problem, options: Options, ev: Evaluator, st: State, qp: QPStep, mu: Array,

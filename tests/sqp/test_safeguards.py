@@ -85,11 +85,12 @@ def _hanging_chain(links: int) -> dict:
 
 
 def test_a_rounding_limited_hanging_chain_is_a_success():
-    """150 links, 298 variables: the stationarity residual stalls near 2e-6 because the tensions make the terms of
-    the Lagrangian gradient 150 times the gradient; that point is ACCEPTABLE (it ended LINE_SEARCH before)."""
+    """150 links, 298 variables: the tensions make the terms of the Lagrangian gradient 150 times the gradient, so
+    rounding limits the stationarity residual; the solve ends a success, at tol (SUCCESS, once the line search
+    tolerates the merit function's noise) or at the rounding-limited level (ACCEPTABLE), never LINE_SEARCH."""
     kw = _hanging_chain(150)
     res = sqp.minimize(**kw)
-    assert res.success and res.status == sqp.Status.ACCEPTABLE, res.message
+    assert res.success and res.status in (sqp.Status.SUCCESS, sqp.Status.ACCEPTABLE), res.message
     assert res.maxcv <= 1e-12
     # an independent certificate: least-squares multipliers leave a small residual, and the chain is symmetric
     J = kw["constraints"][0]["jac"](res.x)

@@ -82,8 +82,8 @@ def _check_bounds(bounds: Any, n: int) -> tuple[Array, Array]:
         for i, pair in enumerate(pairs):
             try:
                 a, b = pair
-                lo[i] = -np.inf if a is None else float(a)
-                hi[i] = np.inf if b is None else float(b)
+                lo[i] = -np.inf if a is None else _scalar(a)
+                hi[i] = np.inf if b is None else _scalar(b)
             except (TypeError, ValueError):
                 raise ValueError(f"bounds[{i}] = {pair!r} is not a (lo, hi) pair of numbers or None.") from None
         lo, hi = _broadcast_side(lo, n, "bounds (lower sides)"), _broadcast_side(hi, n, "bounds (upper sides)")
@@ -155,6 +155,14 @@ def _nonlinear_object_block(con: NonlinearConstraint, i: int, x0: Array) -> tupl
         raise ValueError(f"constraints[{i}] has lb > ub in rows {np.flatnonzero(lb > ub).tolist()}.")
     hess = con.hess if callable(con.hess) else None
     return NonlinearBlock(fun=con.fun, jac=jac, lb=lb, ub=ub, hess=hess, name=name, dict_style=False), c0
+
+
+def _scalar(value: Any) -> float:
+    """A bound given as a number or a one-element array (scipy accepts both); ValueError for anything larger."""
+    arr = np.asarray(value, dtype=float)
+    if arr.size != 1:
+        raise ValueError(f"{value!r} is not one number")
+    return float(arr.reshape(-1)[0])
 
 
 def build_problem(

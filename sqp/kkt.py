@@ -43,9 +43,11 @@ class KKTResiduals(Mapping[str, float]):
     complementarity: float
     feasibility_scale: float = 1.0
 
-    def satisfied(self, tol: float) -> bool:
-        """Stationarity and complementarity at most ``tol``; violation at most ``tol * max(1, ||x||_inf)``."""
-        return bool(self.stationarity <= tol and self.feasible(tol) and self.complementarity <= tol)
+    def satisfied(self, tol: float, feasibility_tol: float | None = None) -> bool:
+        """Stationarity and complementarity at most ``tol``; violation at most ``feasibility_tol`` (default
+        ``tol``) times ``max(1, ||x||_inf)``."""
+        feasible = self.feasible(tol if feasibility_tol is None else feasibility_tol)
+        return bool(self.stationarity <= tol and feasible and self.complementarity <= tol)
 
     def feasible(self, tol: float) -> bool:
         """Violation at most ``tol * max(1, ||x||_inf)``."""

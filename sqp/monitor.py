@@ -67,15 +67,19 @@ class Monitor:
         The KKT tolerance (``Options.tol``).
     max_iter : int
         The iteration limit (``Options.max_iter``).
+    feasibility_tol : float
+        The violation tolerance of a success (``Options.constraint_tol``).
     pt : Point
         The start, evaluated.
     maxcv : float
         Its largest violation.
     """
 
-    def __init__(self, problem: Problem, tol: float, max_iter: int, pt: Point, maxcv: float) -> None:
+    def __init__(self, problem: Problem, tol: float, max_iter: int, pt: Point, maxcv: float,
+                 feasibility_tol: float | None = None) -> None:
         self.problem = problem
         self.tol = tol
+        self.feasibility_tol = tol if feasibility_tol is None else feasibility_tol
         self.max_iter = max_iter
         self.stalled = 0  # consecutive negligible steps
         self.best: tuple[KKTResiduals, QPStep] | None = None  # best residuals (and their QP) at the stalled point
@@ -101,7 +105,7 @@ class Monitor:
         self.kkt = kkt
         if self.stalled == 0 or self.best is None or kkt.worst < self.best[0].worst:
             self.best = (kkt, qp)  # the best multipliers at this (stalled) point
-        if kkt.satisfied(self.tol):
+        if kkt.satisfied(self.tol, options.constraint_tol):
             return Stop(Status.SUCCESS)
         if nit == self.max_iter:
             return Stop(Status.MAX_ITER)
@@ -129,7 +133,7 @@ class Monitor:
             stop = Stop(stalled_status(self.problem, st, st.qp.d))
         # (the multiplier estimates of the QPs solved while x stood still all belong to this point: the best one
         # decides; rounding makes them scatter around the limit on ill-conditioned problems such as HS116)
-        if acceptable(self.problem, st, *self.best, self.tol):
+        if acceptable(self.problem, st, *self.best, self.tol, self.feasibility_tol):
             return Stop(Status.ACCEPTABLE, qp=self.best[1])
         return stop
 
@@ -156,8 +160,9 @@ class Monitor:
         only confirm it."""
         early = CONFIRMED_TOLERANCE * self.tol
         assert st.qp is not None
-        if (maxcv <= early * max(1.0, inf_norm(st.pt.x))  # (the feasibility test first)
-                and not at_step_bound(options, st.qp.d) and self._kkt_at(st, maxcv).satisfied(early)
+        # (the violation is measured at the new point, not predicted: it needs no margin below its tolerance)
+        if (maxcv <= min(early, options.constraint_tol) * max(1.0, inf_norm(st.pt.x))  # (the cheap test first)
+                and not at_step_bound(options, st.qp.d) and self._kkt_at(st, maxcv).satisfied(early, early)
                 and loaded_rows_active(self.problem, st, early)):
             return Stop(Status.SUCCESS)
         return None

@@ -13,6 +13,11 @@ if TYPE_CHECKING:
     from sqp.problem import Problem
 
 
+#: The default violation tolerance of a SUCCESS (relative to ``max(1, ||x||_inf)``): about a million rounding units,
+#: the level SLSQP's final iterates reach, far below any finite-difference error in the derivatives.
+FEASIBILITY_TOL = 1e-10
+
+
 @dataclass(frozen=True)
 class Options:
     """Settings of one solve (:func:`sqp.minimize` builds one from its keyword arguments).
@@ -20,8 +25,14 @@ class Options:
     Attributes
     ----------
     tol : float
-        Tolerance on the scaled KKT residuals (stationarity, complementarity) and on the absolute constraint
-        violation.
+        Tolerance on the scaled KKT residuals (stationarity, complementarity).
+    feasibility_tol : float or None
+        Tolerance on the largest constraint violation, relative to ``max(1, ||x||_inf)``, for a SUCCESS. None (the
+        default): ``tol`` when every derivative is the user's, and ``min(tol, FEASIBILITY_TOL)`` (1e-10) when some
+        are finite differences (:meth:`for_problem`). The violation is computed from the constraint values, exact to
+        rounding however inexact the derivatives, so the loose stationarity tolerance that differences need (1e-6)
+        must not loosen it: a success at ``x0^2 - 1 = -2e-8`` would fail a user's ``>= -1e-8`` check, where SLSQP's
+        final iterate meets its rows near rounding.
     max_iter : int
         Maximum number of SQP iterations.
     qp_solver : str
@@ -65,6 +76,10 @@ class Options:
         Largest change of any variable in one step of the first :data:`sqp.termination.RESTART_BOUNDED_ITERATIONS` (10)
         iterations (a box trust region on the QP); ``inf`` (the default): none. A QP whose step reaches it gives no
         KKT certificate (its bound multipliers include the box's).
+    restoration : bool
+        After an INFEASIBLE end with nonlinear rows, minimise the violation from the last point
+        (:mod:`sqp.restoration`) and report that point, or solve again from it when its violation is within
+        tolerance.
     restart : bool
         After a failure (INFEASIBLE, LINE_SEARCH, SMALL_STEP) on a problem with nonlinear constraints, solve again
         from ``x0`` with a step bound on the first iterations (:func:`sqp.solver.run`).
@@ -77,6 +92,7 @@ class Options:
     """
 
     tol: float = 1e-8
+    feasibility_tol: float | None = None
     max_iter: int = 500
     qp_solver: str = AUTO
     qp_options: dict[str, Any] = field(default_factory=dict)
@@ -86,10 +102,15 @@ class Options:
     qp_fallbacks: tuple[str, ...] = ("quadprog", "clarabel")
     step_bound: float = float("inf")
     restart: bool = True
+    restoration: bool = True
 
     def __post_init__(self) -> None:
         if not isinstance(self.tol, int | float) or not self.tol > 0:
             raise ValueError(f"tol = {self.tol!r}; expected a positive number such as 1e-8.")
+        if self.feasibility_tol is not None and (not isinstance(self.feasibility_tol, int | float)
+                                                 or not self.feasibility_tol > 0):
+            raise ValueError(f"feasibility_tol = {self.feasibility_tol!r}; expected a positive number such as 1e-10, "
+                             "or None for min(tol, 1e-10).")
         if isinstance(self.max_iter, bool) or not isinstance(self.max_iter, int) or self.max_iter < 0:
             raise ValueError(f"max_iter = {self.max_iter!r}; expected a nonnegative integer.")
         if not isinstance(self.qp_solver, str):
@@ -100,12 +121,21 @@ class Options:
         if self.callback is not None and not callable(self.callback):
             raise TypeError("callback must be callable: callback(intermediate_result).")
 
+    @property
+    def constraint_tol(self) -> float:
+        """The violation tolerance of a SUCCESS: ``feasibility_tol``, else ``tol``."""
+        return self.feasibility_tol if self.feasibility_tol is not None else self.tol
+
     def for_problem(self, problem: Problem) -> Options:
         """These options with ``qp_solver="auto"`` replaced by the backend chosen for ``problem`` (unchanged when a
-        backend is named)."""
+        backend is named) and ``feasibility_tol=None`` by its value for ``problem`` (``min(tol, FEASIBILITY_TOL)``
+        when some derivative is a finite difference, else ``tol``)."""
+        out = self
+        if self.feasibility_tol is None:
+            out = replace(out, feasibility_tol=min(self.tol, FEASIBILITY_TOL) if problem.differenced else self.tol)
         if self.qp_solver != AUTO:
-            return self
-        return replace(self, qp_solver=auto_choice(problem.n, problem.sparse_jacobians)[0])
+            return out
+        return replace(out, qp_solver=auto_choice(problem.n, problem.sparse_jacobians)[0])
 
     @property
     def backend_options(self) -> dict[str, Any]:

@@ -192,6 +192,11 @@ class Problem:
         return self.x0.size
 
     @cached_property
+    def differenced(self) -> bool:
+        """Whether some derivative is a finite difference (the gradient or a nonlinear constraint's Jacobian)."""
+        return self.grad is None or any(block.jac is None for block in self.blocks)
+
+    @cached_property
     def bound_rows(self) -> Rows:
         """The bounds as rows ``lower <= x <= upper``."""
         return Rows.from_bounds(self.lower, self.upper)

@@ -70,7 +70,7 @@ class Status(IntEnum):
     SMALL_STEP = (13, "The step became too small to make progress before the KKT residuals fell below tol.")
     LINEAR_INFEASIBLE = (14, "The linear constraints and bounds have no common point.")
     UNBOUNDED = (15, "The problem appears unbounded below: the objective decreased without bound at feasible points.")
-    CALLBACK = (99, "Stopped by the callback (StopIteration).")
+    CALLBACK = (99, "`callback` raised `StopIteration`.")  # scipy's own message for this end
 
     @property
     def code(self) -> int:

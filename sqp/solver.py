@@ -34,6 +34,7 @@ from sqp.monitor import Monitor, Stop
 from sqp.options import Options
 from sqp.problem import Problem, format_point
 from sqp.report import HEADER, format_row
+from sqp.restoration import least_violation
 from sqp.result import IterationRecord, Result, Status, build_result
 from sqp.scipy_call import adapt_callback, check_method, print_summary, read_settings
 from sqp.start import initial_hessian, start_point
@@ -68,6 +69,7 @@ def minimize(
     qp_solver: str = "auto",
     qp_options: dict[str, Any] | None = None,
     max_iter: int | None = None,
+    feasibility_tol: float | None = None,
     verbose: bool = False,
 ) -> Result:
     """Minimise ``fun(x, *args)`` subject to bounds and constraints by SQP; scipy's ``minimize(method="SLSQP")`` call.
@@ -136,6 +138,11 @@ def minimize(
         Backend settings merged over the engine's accurate defaults.
     max_iter : int, optional
         Maximum number of iterations (the same as ``options["maxiter"]``; give one of them).
+    feasibility_tol : float, optional
+        Largest violation of a SUCCESS, relative to ``max(1, ||x||_inf)``; default ``tol``, and ``min(tol, 1e-10)``
+        when some derivative is a finite difference: the violation is computed from the constraint values, exact to
+        rounding however inexact the derivatives, and is driven near rounding as SLSQP's final iterates are
+        (:attr:`sqp.Options.feasibility_tol`).
     verbose : bool
         Print the backend used and an iteration table.
 
@@ -173,7 +180,8 @@ def minimize(
         warnings.warn("sqp.minimize does not use Hessian-vector product information (hessp); pass hess.",
                       RuntimeWarning, stacklevel=2)
     call = read_settings(jac, tol, options, max_iter, verbose)
-    options_ = Options(tol=call.tol, max_iter=call.max_iter, qp_solver=qp_solver, qp_options=dict(qp_options or {}),
+    options_ = Options(tol=call.tol, feasibility_tol=feasibility_tol, max_iter=call.max_iter, qp_solver=qp_solver,
+                       qp_options=dict(qp_options or {}),
                        callback=adapt_callback(callback), verbose=call.table)
     problem = build_problem(fun, x0, jac, bounds, constraints, args, hess, call.differences)
     if problem.hess is not None and hess0 is not None:  # exact Hessians replace it: check the shape only
@@ -198,7 +206,36 @@ def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array
     res, flat = _iterate(problem, options, B0, lam0)
     if options.restart and flat and res.status in RESTART_STATUSES:
         res = _restart(problem, options, B0, lam0, res)
+    if options.restoration and res.status is Status.INFEASIBLE and problem.nonlinear.lb.size:
+        res = _restore(problem, options, B0, lam0, res)
     res.qp_solver = options.qp_solver
+    return res
+
+
+def _restore(problem: Problem, options: Options, B0: Array | None, lam0: Array | None, first: Result) -> Result:
+    """After an INFEASIBLE end: the least violation from its point (:func:`~sqp.restoration.least_violation`). A
+    violation within tolerance there means the problem is feasible after all, and the solve starts again from that
+    point; otherwise the result is INFEASIBLE at the restoration's point, whose ``x``, ``maxcv`` and message agree."""
+    t_start = time.perf_counter()
+    ev = Evaluator(problem)
+    quiet = replace(options, restart=False, restoration=False, callback=None, verbose=False)
+    rest = least_violation(problem, ev, np.asarray(first.x, dtype=float), quiet, run)
+    pt = ev.point(rest.x)
+    if pt.maxcv <= options.constraint_tol * max(1.0, inf_norm(rest.x)):
+        res = _iterate(replace(problem, x0=rest.x, start=None), options, B0, lam0)[0]
+        res.nfev, res.njev, res.nit = res.nfev + ev.nfev, res.njev + ev.njev, res.nit + rest.result.nit
+    else:
+        der = ev.derivatives(pt)
+        verdict = ("a stationary point of the violation (the restoration problem's KKT test holds)" if rest.stationary
+                   else f"where the restoration ended {rest.result.status.name}: not certified a minimiser of the "
+                        "violation")
+        res = build_result(problem, ev, pt, der, None, Status.INFEASIBLE, list(first.history), t_start,
+                           nit=rest.result.nit, detail=f"Least violation reached: {rest.violation:.3e} (sum over the "
+                                                       f"rows; largest {pt.maxcv:.3e}) at x = {format_point(rest.x)}, "
+                                                       f"{verdict}.")
+    # (the work of the first solve counts too)
+    res.nfev, res.njev, res.nit = res.nfev + first.nfev, res.njev + first.njev, res.nit + first.nit
+    res.solve_time += first.solve_time
     return res
 
 
@@ -227,7 +264,7 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
         return failed, False
     hessian = hessian_strategy(problem, B0, lam0)
     st = State(st.pt, st.der, hessian.initial(st), st.mu)
-    monitor = Monitor(problem, options.tol, options.max_iter, st.pt, st.pt.maxcv)
+    monitor = Monitor(problem, options.tol, options.max_iter, st.pt, st.pt.maxcv, options.constraint_tol)
     history: list[IterationRecord] = []
     rho = 0.0  # the elastic QP's slack price
     noise = 0.0  # the merit function's rounding noise, once a line search has found it

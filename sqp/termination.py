@@ -110,14 +110,15 @@ def infeasibility_stalled(least_trace: list[float], elastic_run: int, tol: float
     return least_trace[-1] > (1.0 - INFEASIBLE_PROGRESS) * least_trace[-1 - INFEASIBLE_STALL]
 
 
-def acceptable(problem: Problem, st: State, kkt: KKTResiduals, qp: QPStep, tol: float) -> bool:
+def acceptable(problem: Problem, st: State, kkt: KKTResiduals, qp: QPStep, tol: float,
+               feasibility_tol: float | None = None) -> bool:
     """Whether a point where no step makes progress passes the ACCEPTABLE test with the multipliers of ``qp``:
-    feasible to ``tol``, complementarity at most ``max(ACCEPTABLE_TOL, tol)`` and stationarity at most that times
-    the factor by which the terms of the Lagrangian gradient exceed it (:func:`~sqp.kkt.cancellation`): rounding in
-    those terms, not the distance to a KKT point, limits the residual there (a hanging chain of 150 links: residual
-    2e-6 with tensions 150 times the gradient)."""
+    feasible to ``feasibility_tol`` (default ``tol``), complementarity at most ``max(ACCEPTABLE_TOL, tol)`` and
+    stationarity at most that times the factor by which the terms of the Lagrangian gradient exceed it
+    (:func:`~sqp.kkt.cancellation`): rounding in those terms, not the distance to a KKT point, limits the residual
+    there (a hanging chain of 150 links: residual 2e-6 with tensions 150 times the gradient)."""
     level = max(ACCEPTABLE_TOL, tol)
-    if not kkt.feasible(tol) or kkt.complementarity > level:
+    if not kkt.feasible(tol if feasibility_tol is None else feasibility_tol) or kkt.complementarity > level:
         return False
     if kkt.stationarity <= level:
         return True

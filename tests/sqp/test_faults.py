@@ -261,9 +261,11 @@ def test_nan_from_an_exact_hessian_is_nonfinite():
 
 
 def _least_violation(message):
-    found = re.search(r"Least violation reached: ([0-9.e+-]+) at x = \[", message)
+    """The violation (sum over the rows) and the largest row's, as the INFEASIBLE message states them."""
+    found = re.search(r"Least violation reached: ([0-9.e+-]+) \(sum over the rows; largest ([0-9.e+-]+)\) at x = \[",
+                      message)
     assert found, message
-    return float(found.group(1))
+    return float(found.group(1)), float(found.group(2))
 
 
 def test_an_impossible_inequality_is_infeasible_with_the_least_violation():
@@ -271,17 +273,22 @@ def test_an_impossible_inequality_is_infeasible_with_the_least_violation():
     res = sqp.minimize(lambda x: x @ x, [1.0, 1.0], jac=lambda x: 2 * x, constraints=[con])
     assert_failed_honestly(res, sqp.Status.INFEASIBLE)
     assert "could not be satisfied" in res.message
-    assert "Least violation reached: 1.00e+00 at x = [" in res.message
+    total, largest = _least_violation(res.message)
+    # -(|x|^2) - 1 >= 0 is violated by 1 + |x|^2, least (1) at x = 0: the message, x and maxcv say so
+    assert total == largest == pytest.approx(1.0, abs=1e-9) and res.maxcv == pytest.approx(1.0, abs=1e-9)
+    np.testing.assert_allclose(res.x, 0.0, atol=1e-5)
 
 
 def test_contradictory_equalities_are_infeasible_with_the_least_violation():
-    # |x|^2 = 1 and |x|^2 = 4: the least largest violation is 1.5 (at |x|^2 = 2.5)
+    # |x|^2 = 1 and |x|^2 = 4: the violation |r - 1| + |r - 4| (r = |x|^2) is least, 3, for every r in [1, 4]
     cons = [{"type": "eq", "fun": lambda x: np.array([x @ x - 1.0]), "jac": lambda x: 2 * x[None, :]},
             {"type": "eq", "fun": lambda x: np.array([x @ x - 4.0]), "jac": lambda x: 2 * x[None, :]}]
     res = sqp.minimize(lambda x: x[0] + x[1], [0.5, 0.3], jac=lambda x: np.ones(2), constraints=cons)
     assert_failed_honestly(res, sqp.Status.INFEASIBLE)
-    least = _least_violation(res.message)
-    assert 1.5 - 1e-9 <= least <= min([res.maxcv] + [r.maxcv for r in res.history]) * (1 + 1e-2)
+    total, largest = _least_violation(res.message)
+    r = float(res.x @ res.x)
+    assert total == pytest.approx(3.0, abs=1e-8) and 1.0 - 1e-8 <= r <= 4.0 + 1e-8
+    assert largest == pytest.approx(res.maxcv, rel=1e-3) == pytest.approx(max(abs(r - 1.0), abs(r - 4.0)), rel=1e-3)
 
 
 @pytest.mark.parametrize("bounds", [None, [(0.0, 1.0), (0.0, 1.0)]])

@@ -66,7 +66,8 @@ def test_stencil_noise_recovers_the_noise_of_smooth_functions():
     """ECnoise on known noise: three smooth functions plus Gaussian noise of deviation sigma over seven orders of
     magnitude, 30 seeds each (630 estimates from 7 values). The estimate is a sample deviation of a few
     differences, so it is judged as one: its median within a factor 1.5 of sigma, 90 % of the estimates within a
-    factor 3 (about 96 % are, over thousands of seeds), at most 10 % left undecided (NaN: the next, narrower stencil decides those); without noise a wide
+    factor 3 (about 96 % are, over thousands of seeds), at most 10 % left undecided (NaN: the next, narrower
+    stencil decides those); without noise a wide
     stencil is recognised as smooth (NaN)."""
     t = np.linspace(0.0, 1e-6, 7)
     smooth = np.column_stack([1.0 + 2.0 * t, np.exp(t), 5.0 + np.sin(3e3 * t)])

@@ -9,6 +9,7 @@ to catch wrong shapes early (the solve's first evaluation of the start reuses th
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -191,32 +192,74 @@ def build_problem(
     x = _check_x0(x0)
     n = x.size
     differences = FiniteDifferences.for_jac(jac) if differences is None else differences
-    if jac is True:
-        both = ValueAndGradient(fun)
-        fun, jac = both.value, both.gradient
-    f = (lambda z: fun(z, *args)) if args else fun
-    if jac is None or jac is False or (isinstance(jac, str) and jac in FD_METHODS):
-        grad = None
-    elif callable(jac):
-        grad = (lambda z: jac(z, *args)) if args else jac
-    else:
-        raise TypeError(f"jac must be callable, True (fun returns (f, g)), None/False or one of {FD_METHODS}; "
-                        f"got {jac!r}.")
+    f, grad = _objective(fun, jac, args)
     lower, upper = _check_bounds(bounds, n)
     if bounds is None:  # (x is this function's own copy; nothing to clip)
         xs, clipped = x, np.zeros(0, dtype=np.intp)
     else:
         xs = np.clip(x, lower, upper)
         clipped = np.flatnonzero(xs != x)
+    split = _split_constraints(constraints, n, xs)
+    A_all, linear = _stack_linear(split, n)
+    blocks = split.blocks
+    nl_lb = np.concatenate([b.lb for b in blocks]) if blocks else np.zeros(0)
+    nl_ub = np.concatenate([b.ub for b in blocks]) if blocks else np.zeros(0)
+    start = _check_shapes(f, grad, blocks, xs, split.c0)
+    return Problem(
+        fun=f,
+        grad=grad,
+        x0=xs,
+        lower=lower,
+        upper=upper,
+        A=A_all,
+        linear=linear,
+        blocks=tuple(blocks),
+        nonlinear=Rows.from_bounds(nl_lb, nl_ub),
+        kinds=tuple(split.kinds),
+        linear_sizes=tuple(a.shape[0] for a in split.lin_A),
+        hess=_objective_hessian(hess, blocks, args),
+        differences=differences,
+        x0_clipped=clipped,
+        sparse_jacobians=(all(J is not None and sp.issparse(J) for J in start.J)
+                          and all(sp.issparse(a) for a in split.lin_A)),
+        start=start,
+    )
 
+
+def _objective(fun: Callable[..., Any], jac: Any, args: tuple[Any, ...]) -> tuple[Callable[[Array], Any],
+                                                                                  Callable[[Array], Any] | None]:
+    """The objective and its gradient as functions of ``x`` alone (None: finite differences); ``jac=True`` splits a
+    ``fun`` returning ``(f, g)``."""
+    if jac is True:
+        both = ValueAndGradient(fun)
+        fun, jac = both.value, both.gradient
+    f = (lambda z: fun(z, *args)) if args else fun
+    if jac is None or jac is False or (isinstance(jac, str) and jac in FD_METHODS):
+        return f, None
+    if callable(jac):
+        return f, (lambda z: jac(z, *args)) if args else jac
+    raise TypeError(f"jac must be callable, True (fun returns (f, g)), None/False or one of {FD_METHODS}; "
+                    f"got {jac!r}.")
+
+
+@dataclass
+class _Split:
+    """The user's constraints sorted: nonlinear blocks with their values at the start, linear rows, and the kind of
+    each constraint in the order given."""
+
+    blocks: list[NonlinearBlock] = field(default_factory=list)
+    c0: list[Array] = field(default_factory=list)
+    lin_A: list[Any] = field(default_factory=list)
+    lin_lb: list[Array] = field(default_factory=list)
+    lin_ub: list[Array] = field(default_factory=list)
+    kinds: list[str] = field(default_factory=list)
+
+
+def _split_constraints(constraints: Any, n: int, xs: Array) -> _Split:
+    """Check each constraint and sort it into :class:`_Split` (nonlinear ones are evaluated at ``xs``)."""
     if isinstance(constraints, dict | LinearConstraint | NonlinearConstraint):
         constraints = (constraints,)
-    blocks: list[NonlinearBlock] = []
-    c0: list[Array] = []
-    lin_A: list[Any] = []
-    lin_lb: list[Array] = []
-    lin_ub: list[Array] = []
-    kinds: list[str] = []
+    out = _Split()
     for i, con in enumerate(constraints or ()):
         if isinstance(con, LinearConstraint):
             A = con.A
@@ -228,65 +271,50 @@ def build_problem(
             ub = _as_vector(con.ub, m, f"constraints[{i}].ub")
             if np.any(lb > ub):
                 raise ValueError(f"constraints[{i}] has lb > ub in rows {np.flatnonzero(lb > ub).tolist()}.")
-            lin_A.append(A)
-            lin_lb.append(lb)
-            lin_ub.append(ub)
-            kinds.append("linear")
+            out.lin_A.append(A)
+            out.lin_lb.append(lb)
+            out.lin_ub.append(ub)
+            out.kinds.append("linear")
         elif isinstance(con, NonlinearConstraint | dict):
             block, values = (_nonlinear_object_block if isinstance(con, NonlinearConstraint) else _dict_block)(
                 con, i, xs)
-            blocks.append(block)
-            c0.append(values)
-            kinds.append("nonlinear")
+            out.blocks.append(block)
+            out.c0.append(values)
+            out.kinds.append("nonlinear")
         else:
             raise TypeError(f"constraints[{i}] is a {type(con).__name__}; expected a dict "
                             "{'type': 'eq'|'ineq', 'fun': ..., 'jac': ...}, "
                             "a NonlinearConstraint or a LinearConstraint.")
-    if lin_A:
-        if n <= DENSE_LIMIT:
-            # (dense up to DENSE_LIMIT variables, as the engine keeps every matrix there: a sparse A would make each
-            # iteration's rows sparse, sending an equality QP to a backend instead of the direct KKT solve and
-            # costing scipy.sparse stacking; measured, the paper scheme's Table 1 at 100 bars 8.8 -> 3 ms)
-            A_all = np.vstack([a.toarray() if sp.issparse(a) else a for a in lin_A])
-        elif any(sp.issparse(a) for a in lin_A):
-            A_all = sp.vstack([sp.csr_matrix(a) for a in lin_A], format="csr")
-        else:
-            A_all = np.vstack(lin_A)
-        linear = Rows.from_bounds(np.concatenate(lin_lb), np.concatenate(lin_ub))
+    return out
+
+
+def _stack_linear(split: _Split, n: int) -> tuple[Any, Rows]:
+    """The linear rows stacked into one matrix and their :class:`Rows`: dense up to DENSE_LIMIT variables, as the
+    engine keeps every matrix there (a sparse A would make each iteration's rows sparse, sending an equality QP to a
+    backend instead of the direct KKT solve and costing scipy.sparse stacking: the paper scheme's Table 1 at 100
+    bars 8.8 -> 3 ms), sparse above it when any block is."""
+    if not split.lin_A:
+        return np.zeros((0, n)), Rows.from_bounds(np.zeros(0), np.zeros(0))
+    if n <= DENSE_LIMIT:
+        A_all = np.vstack([a.toarray() if sp.issparse(a) else a for a in split.lin_A])
+    elif any(sp.issparse(a) for a in split.lin_A):
+        A_all = sp.vstack([sp.csr_matrix(a) for a in split.lin_A], format="csr")
     else:
-        A_all = np.zeros((0, n))
-        linear = Rows.from_bounds(np.zeros(0), np.zeros(0))
-    nl_lb = np.concatenate([b.lb for b in blocks]) if blocks else np.zeros(0)
-    nl_ub = np.concatenate([b.ub for b in blocks]) if blocks else np.zeros(0)
-    if hess is not None:
-        if not callable(hess):
-            raise TypeError("hess must be callable: hess(x) -> (n, n) Hessian of fun (array or sparse matrix).")
-        missing = [i for i, b in enumerate(blocks) if b.hess is None]
-        if missing:
-            raise ValueError(f"hess is given but nonlinear constraint block(s) {missing} have no Hessian; give each a "
-                             "'hess' (dict key or NonlinearConstraint.hess) as hess(x, v), or drop hess to use BFGS.")
-        hess_f = (lambda z: hess(z, *args)) if args else hess
-    else:
-        hess_f = None
-    start = _check_shapes(f, grad, blocks, xs, c0)
-    return Problem(
-        fun=f,
-        grad=grad,
-        x0=xs,
-        lower=lower,
-        upper=upper,
-        A=A_all,
-        linear=linear,
-        blocks=tuple(blocks),
-        nonlinear=Rows.from_bounds(nl_lb, nl_ub),
-        kinds=tuple(kinds),
-        linear_sizes=tuple(a.shape[0] for a in lin_A),
-        hess=hess_f,
-        differences=differences,
-        x0_clipped=clipped,
-        sparse_jacobians=all(J is not None and sp.issparse(J) for J in start.J) and all(sp.issparse(a) for a in lin_A),
-        start=start,
-    )
+        A_all = np.vstack(split.lin_A)
+    return A_all, Rows.from_bounds(np.concatenate(split.lin_lb), np.concatenate(split.lin_ub))
+
+
+def _objective_hessian(hess: Any, blocks: list[NonlinearBlock], args: tuple[Any, ...]) -> Callable[[Array], Any] | None:
+    """``hess`` as a function of ``x`` alone, checked: callable, and every nonlinear block carries its own Hessian."""
+    if hess is None:
+        return None
+    if not callable(hess):
+        raise TypeError("hess must be callable: hess(x) -> (n, n) Hessian of fun (array or sparse matrix).")
+    missing = [i for i, b in enumerate(blocks) if b.hess is None]
+    if missing:
+        raise ValueError(f"hess is given but nonlinear constraint block(s) {missing} have no Hessian; give each a "
+                         "'hess' (dict key or NonlinearConstraint.hess) as hess(x, v), or drop hess to use BFGS.")
+    return (lambda z: hess(z, *args)) if args else hess
 
 
 class ValueAndGradient:

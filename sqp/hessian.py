@@ -132,7 +132,6 @@ def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0,
 
 def _convexify(W: Any, shift: float, C: Any, rho: float, alone_first: bool = True) -> tuple[Any, float, float]:
     """:func:`convexify`'s general path, 1.-3."""
-    n = W.shape[0]
     is_sparse = sp.issparse(W)
     # (a W that needed the augmented-Lagrangian term last time goes straight to it: the term leaves the step
     # unchanged, and testing W alone again costs a factorisation per iteration)
@@ -156,24 +155,65 @@ def _convexify(W: Any, shift: float, C: Any, rho: float, alone_first: bool = Tru
     # (method calls on the diagonal views: W is n x n, n >= 1)
     scale = max(1.0, float(np.abs(W.diagonal()).max()))
     if CtC is not None:
-        base = float(CtC.diagonal().max())  # (>= 0: a Gram matrix's diagonal)
-        if base > 0.0:
-            r0 = 1e-3 * scale / base
-            r = r0 if rho <= 0.0 else max(rho, r0) if is_sparse else rho / 4.0
-            r *= 10.0**rungs  # (the same numbers as growing it tenfold: rungs is 0 or 1)
-            for _ in range(12 - rungs):
-                B = _accepted(_sorted(_plus_scaled(W, r, CtC, is_sparse), is_sparse), is_sparse)
-                if B is not None:
-                    return B, 0.0, r
-                r *= 10.0
-    eye = sp.identity(n, format="csc") if is_sparse else np.eye(n)
-    delta = max(shift / 4.0, 1e-8 * scale)
-    for _ in range(40):
+        found = _augmented_ladder(W, CtC, rho, rungs, scale, is_sparse)
+        if found is not None:
+            return found
+    return _shift_ladder(W, shift, scale, is_sparse)
+
+
+#: The augmented-Lagrangian weight ``r`` of path 2 starts where ``r C^T C``'s diagonal is this fraction of ``W``'s
+#: largest (at least 1): small enough to leave a convex ``W`` nearly unchanged on the rows' null space.
+AL_WEIGHT_START = 1e-3
+
+#: The weight and the identity shift of path 3 grow by this factor per failed Cholesky test (the ladder of Nocedal &
+#: Wright, Algorithm 3.3, with their factor 10).
+LADDER_GROWTH = 10.0
+
+#: Rungs of the weight's ladder (weights up to 1e11 times the first) before the identity shift takes over.
+AL_WEIGHT_RUNGS = 12
+
+#: A solve that needed a weight ``rho`` last time starts from ``rho / WEIGHT_DECAY`` on a dense ``W``, and one that
+#: needed a shift from ``shift / WEIGHT_DECAY``: the Hessian drifts slowly between iterations, so a quarter of the
+#: last value often passes at once, and a value no longer needed fades by that factor per iteration.
+WEIGHT_DECAY = 4.0
+
+#: The identity shift starts at this fraction of ``W``'s largest diagonal entry (at least 1) when none is carried.
+SHIFT_START = 1e-8
+
+#: Rungs of the shift's ladder (shifts up to 1e32 times the first): far past any finite Hessian's spectrum.
+SHIFT_RUNGS = 40
+
+
+def _augmented_ladder(W: Any, CtC: Any, rho: float, rungs: int, scale: float,
+                      is_sparse: bool) -> tuple[Any, float, float] | None:
+    """Path 2 of :func:`convexify`: the first weight ``r`` (from the last one, ``rho``, or :data:`AL_WEIGHT_START`)
+    for which ``W + r C^T C`` passes the Cholesky test, ``rungs`` of the ladder being known to fail; None when
+    none does or ``C^T C`` is zero."""
+    base = float(CtC.diagonal().max())  # (>= 0: a Gram matrix's diagonal)
+    if base <= 0.0:
+        return None
+    r0 = AL_WEIGHT_START * scale / base
+    r = r0 if rho <= 0.0 else max(rho, r0) if is_sparse else rho / WEIGHT_DECAY
+    r *= LADDER_GROWTH**rungs  # (the same numbers as growing it tenfold: rungs is 0 or 1)
+    for _ in range(AL_WEIGHT_RUNGS - rungs):
+        B = _accepted(_sorted(_plus_scaled(W, r, CtC, is_sparse), is_sparse), is_sparse)
+        if B is not None:
+            return B, 0.0, r
+        r *= LADDER_GROWTH
+    return None
+
+
+def _shift_ladder(W: Any, shift: float, scale: float, is_sparse: bool) -> tuple[Any, float, float]:
+    """Path 3 of :func:`convexify`: ``W + delta I`` for the first ``delta`` (from the last one, ``shift``, or
+    :data:`SHIFT_START`) that passes the Cholesky test (the last one tried when none does)."""
+    eye = sp.identity(W.shape[0], format="csc") if is_sparse else np.eye(W.shape[0])
+    delta = max(shift / WEIGHT_DECAY, SHIFT_START * scale)
+    for _ in range(SHIFT_RUNGS):
         B = _sorted(W + delta * eye, is_sparse)
         accepted = _accepted(B, is_sparse)
         if accepted is not None:
             return accepted, delta, 0.0
-        delta *= 10.0
+        delta *= LADDER_GROWTH
     return B, delta, 0.0
 
 
@@ -204,7 +244,7 @@ def _indefinite_first(W: Array, C: Any, CtC: Array) -> tuple[Any, float, float] 
     base = float(CtC.diagonal().max())
     if base <= 0.0:
         return None
-    r = 1e-3 * max(1.0, float(np.abs(W.diagonal()).max())) / base
+    r = AL_WEIGHT_START * max(1.0, float(np.abs(W.diagonal()).max())) / base
     B = _accepted(_plus_scaled(W, r, CtC, False), False)
     if B is None:
         return None, 0.0, r

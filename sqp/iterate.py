@@ -238,10 +238,10 @@ def _as_format(H: Any, dense: bool) -> Any:
     return sp.csc_matrix(H, dtype=float)
 
 
-@dataclass
+@dataclass(frozen=True)
 class State:
     """The handful of values carried from one iteration to the next (``B`` is None before an exact-Hessian solve's
-    first model)."""
+    first model): replaced, never changed in place."""
 
     pt: Point
     der: Derivatives

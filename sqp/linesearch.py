@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from sqp.iterate import Derivatives, Evaluator, Point, State
-from sqp.merit import ARMIJO, merit_at, next_step_length
+from sqp.merit import ARMIJO, linear_change, merit_at, next_step_length
 from sqp.noise import noise_along
 from sqp.options import Options
 from sqp.problem import Problem
@@ -72,20 +72,18 @@ def line_search(problem: Problem, options: Options, ev: Evaluator, st: State, d:
     cancellation. A failure with noise-free values (wrong derivatives, a step that is not a descent direction) is
     still a failure (``pt is None``). The bound used is returned (:attr:`Search.noise`) for the next searches.
     """
-    rows = problem.nonlinear
-    # (the violations at x and of the linearisation at x + d, once: merit(), directional_derivative() in one)
-    v0 = st.pt.v
+    v0 = st.pt.v  # (the violations at x and of the linearisation at x + d, each computed once)
     if v_lin is None:
-        v_lin = rows.violation(st.pt.c + st.der.J @ d)
+        v_lin = problem.nonlinear.violation(st.pt.c + st.der.J @ d)
     gd = float(st.der.g @ d)
-    phi0 = float(st.pt.f + mu @ v0)
-    D = float(gd + mu @ (v_lin - v0))
+    phi0 = merit_at(st.pt, mu)  # the merit function (Eq. 12) and its directional derivative along d
+    D = linear_change(gd, v0, v_lin, mu)
     if D >= 0.0:
         # an inexact QP can give an ascent direction; a steeper penalty restores descent when d is infeasible
         if np.any(v0 > 0):
             mu = mu + (D + 1.0) / float(np.sum(v0)) * (v0 > 0)
-            phi0 = float(st.pt.f + mu @ v0)
-            D = float(gd + mu @ (v_lin - v0))
+            phi0 = merit_at(st.pt, mu)
+            D = linear_change(gd, v0, v_lin, mu)
         if D >= 0.0:
             return Search(mu=mu)
     search, full = _backtrack(problem, options, ev, st, d, mu, v_lin, phi0, D, noise)

@@ -47,7 +47,13 @@ def directional_derivative(g: Array, d: Array, c: Array, Jd: Array, rows: Rows, 
 
     Equals ``g^T d - sum mu_i v_i(c)`` when ``d`` satisfies the linearised rows (Nocedal & Wright, Thm 18.2).
     """
-    return float(g @ d + mu @ (rows.violation(c + Jd) - rows.violation(c)))
+    return linear_change(float(g @ d), rows.violation(c), rows.violation(c + Jd), mu)
+
+
+def linear_change(gd: float, v0: Array, v_lin: Array, mu: Array) -> float:
+    """:func:`directional_derivative` from its parts: ``g^T d``, the violations at ``x`` and those of the rows
+    linearised at ``x + d``."""
+    return float(gd + mu @ (v_lin - v0))
 
 
 def update_penalty(mu: Array, lam: Array) -> Array:

@@ -321,13 +321,13 @@ def subproblem(problem: Problem, options: Options, st: State, rho: float,
     """The QP at ``st`` (Eqs. 9–10, elastic when inconsistent: :func:`~sqp.step.qp_step`) with the multipliers of the
     model's step; when no backend solves it, once more with ``B`` replaced by a multiple of the identity. Returns the
     answer, the elastic slack price and the ``B`` it was solved with."""
-    qp, rho = qp_step(problem, options, st, rho)
-    qp = hessian.multipliers(st, qp)
+    qp, rho, B = qp_step(problem, options, st, rho)
+    qp = hessian.multipliers(State(st.pt, st.der, B, st.mu, st.qp), qp)
     if qp.found:
-        return qp, rho, st.B
-    eye = sp.identity(problem.n, format="csc") if sp.issparse(st.B) else np.eye(problem.n)
-    B = eye * max(1.0, float(np.mean(np.abs(st.B.diagonal()))))
-    qp, rho = qp_step(problem, options, State(st.pt, st.der, B, st.mu, st.qp), rho)
+        return qp, rho, B
+    eye = sp.identity(problem.n, format="csc") if sp.issparse(B) else np.eye(problem.n)
+    B = eye * max(1.0, float(np.mean(np.abs(B.diagonal()))))
+    qp, rho, B = qp_step(problem, options, State(st.pt, st.der, B, st.mu, st.qp), rho)
     return qp, rho, B
 
 

@@ -5,6 +5,7 @@ when the linearisation is inconsistent, and the second-order correction of a rej
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -22,6 +23,14 @@ Array = NDArray[np.float64]
 #: Largest price of a unit of slack in the elastic QP before a point is declared locally infeasible.
 MAX_ELASTIC_PENALTY = 1e10
 
+#: The elastic QP's first slack price is at least this, and at least this factor times the largest penalty and the
+#: gradient's size (a slack must cost more than any multiplier the merit function could pay for it); the price grows
+#: by the same factor while a step removes less than :data:`ELASTIC_PROGRESS` of the linearised violation (the
+#: steering rule of Byrd, Nocedal & Waltz, "Steering exact penalty methods", 2008, in its simplest form).
+ELASTIC_PRICE_FLOOR = 1e2
+ELASTIC_PRICE_FACTOR = 10.0
+ELASTIC_PROGRESS = 0.1
+
 
 def linearised(problem: Problem, st: State, c: Array | None = None) -> tuple[LinearisedRows, LinearisedRows]:
     """The nonlinear rows linearised at ``st`` (with the values ``c`` instead of ``st.pt.c`` when given) and the
@@ -31,58 +40,74 @@ def linearised(problem: Problem, st: State, c: Array | None = None) -> tuple[Lin
     return nl, lin
 
 
-def qp_step(problem: Problem, options: Options, st: State, rho: float) -> tuple[QPStep, float]:
-    """The QP at the current iterate; its elastic form when it is inconsistent.
+def qp_step(problem: Problem, options: Options, st: State, rho: float) -> tuple[QPStep, float, Any]:
+    """The QP at the current iterate; its elastic form when it is inconsistent. Returns the answer, the elastic slack
+    price and the model Hessian the QP was solved with.
 
-    The slack price starts at ``max(100, 10 max mu, 10 ||g||_inf)`` and grows tenfold (up to
-    :data:`MAX_ELASTIC_PENALTY`) only while the elastic step removes less than a tenth of the linearised violation.
-
-    An indefinite :class:`sqp.structured.FactoredHessian` in ``st.B`` (an exact Hessian left unconvexified by
-    :func:`sqp.hessian.convexify`) serves an equality-only QP whose KKT matrix has the right inertia; otherwise
-    ``st.B`` is replaced by its convexification here, before any backend sees it.
+    That Hessian is ``st.B``, or its convexification: an indefinite :class:`sqp.structured.FactoredHessian` in
+    ``st.B`` (an exact Hessian left unconvexified by :func:`sqp.hessian.convexify`) serves an equality-only QP whose
+    KKT matrix has the right inertia; otherwise it is convexified here, before any backend sees it (``st`` itself is
+    not changed).
     """
     nl, lin = linearised(problem, st)
-    x = st.pt.x
     kw = {"backends": options.backends, "initvals": None if st.qp is None else st.qp.d}
-    box = _box(problem, options, x)
-    if needs_convexification(st.B) and not _equality_only(problem, box):
-        st.B = st.B.convexified()
-    qp = solve_subproblem(st.B, st.der.g, nl, lin, *box, **kw)
-    if not qp.found and needs_convexification(st.B):  # K's inertia is wrong: W is not convex on E's null space
-        st.B = st.B.convexified()
-        qp = solve_subproblem(st.B, st.der.g, nl, lin, *box, **kw)
-    rows = problem.nonlinear
-    v0 = float(st.pt.v.sum())
-    if qp.found and rows.lb.size:
+    box = _box(problem, options, st.pt.x)
+    B = st.B
+    if needs_convexification(B) and not _equality_only(problem, box):
+        B = B.convexified()
+    qp = solve_subproblem(B, st.der.g, nl, lin, *box, **kw)
+    if not qp.found and needs_convexification(B):  # K's inertia is wrong: W is not convex on E's null space
+        B = B.convexified()
+        qp = solve_subproblem(B, st.der.g, nl, lin, *box, **kw)
+    if qp.found and problem.nonlinear.lb.size:
         qp = _with_violation(qp, linearised_violation(problem, st, qp.d))
-    if qp.found and v0 > 0.1 * options.tol and len(options.backends) > 1 and not qp.elastic:
-        # a consistent linearisation is met exactly by the QP's step; an answer that leaves the (small) violation
-        # where it was hides inside the backend's own feasibility tolerance (DAQP: 1e-6): ask the next backend
-        assert qp.v_lin is not None  # (v0 > 0: there are nonlinear rows)
-        v1 = float(qp.v_lin.sum())
-        if v1 > 0.5 * v0:
-            other = solve_subproblem(st.B, st.der.g, nl, lin, *_box(problem, options, x),
-                                     backends=options.backends[1:], initvals=kw["initvals"])
-            v_other = linearised_violation(problem, st, other.d) if other.found else None
-            if v_other is not None and float(v_other.sum()) < v1:
-                qp = replace(other, status=f"opt[{options.backends[1][0]}]" if other.status == "optimal"
-                             else other.status, v_lin=v_other)
-    if qp.found or rows.lb.size == 0:
-        return qp, 0.0
-    rho = min(MAX_ELASTIC_PENALTY, max(1e2, 10.0 * float(np.max(st.mu, initial=0.0)),
-                                       10.0 * inf_norm(st.der.g)))
+    if qp.found:
+        qp = _met_by_another_backend(problem, options, st, B, qp, (nl, lin), box, kw["initvals"])
+    if qp.found or problem.nonlinear.lb.size == 0:
+        return qp, 0.0, B
+    qp, rho = _elastic(problem, st, B, (nl, lin), box, kw)
+    return qp, rho, B
+
+
+def _met_by_another_backend(problem: Problem, options: Options, st: State, B: Any, qp: QPStep,
+                            rows: tuple[LinearisedRows, LinearisedRows], box: tuple[Array, Array],
+                            initvals: Array | None) -> QPStep:
+    """A consistent linearisation is met exactly by the QP's step; an answer that leaves the (small) violation where
+    it was hides inside the backend's own feasibility tolerance: the next backend's answer when it meets the rows
+    better, else ``qp``."""
+    v0 = float(st.pt.v.sum())
+    if not (v0 > 0.1 * options.tol and len(options.backends) > 1 and not qp.elastic):
+        return qp
+    assert qp.v_lin is not None  # (v0 > 0: there are nonlinear rows)
+    v1 = float(qp.v_lin.sum())
+    if v1 <= 0.5 * v0:
+        return qp
+    other = solve_subproblem(B, st.der.g, *rows, *box, backends=options.backends[1:], initvals=initvals)
+    v_other = linearised_violation(problem, st, other.d) if other.found else None
+    if v_other is not None and float(v_other.sum()) < v1:
+        return replace(other, status=f"opt[{options.backends[1][0]}]" if other.status == "optimal" else other.status,
+                       v_lin=v_other)
+    return qp
+
+
+def _elastic(problem: Problem, st: State, B: Any, rows: tuple[LinearisedRows, LinearisedRows],
+             box: tuple[Array, Array], kw: dict[str, Any]) -> tuple[QPStep, float]:
+    """The elastic QP of an inconsistent linearisation, and its slack price: starting at
+    ``max(100, 10 max mu, 10 ||g||_inf)``, it grows tenfold (up to :data:`MAX_ELASTIC_PENALTY`) only while the elastic
+    step removes less than a tenth of the linearised violation."""
+    v0 = float(st.pt.v.sum())
+    rho = min(MAX_ELASTIC_PENALTY, max(ELASTIC_PRICE_FLOOR, ELASTIC_PRICE_FACTOR * float(np.max(st.mu, initial=0.0)),
+                                       ELASTIC_PRICE_FACTOR * inf_norm(st.der.g)))
     while True:
-        qp = solve_subproblem(st.B, st.der.g, nl, lin, *_box(problem, options, x), elastic_penalty=rho,
-                              **kw)
+        qp = solve_subproblem(B, st.der.g, *rows, *box, elastic_penalty=rho, **kw)
         if not qp.found:
             return qp, rho
         qp = _with_violation(qp, linearised_violation(problem, st, qp.d))
         if rho >= MAX_ELASTIC_PENALTY:
             return qp, rho
-        v1 = float(np.sum(qp.v_lin))
-        if v0 - v1 >= 0.1 * v0:
+        if v0 - float(np.sum(qp.v_lin)) >= ELASTIC_PROGRESS * v0:
             return qp, rho
-        rho = min(MAX_ELASTIC_PENALTY, 10.0 * rho)
+        rho = min(MAX_ELASTIC_PENALTY, ELASTIC_PRICE_FACTOR * rho)
 
 
 def linearised_violation(problem: Problem, st: State, d: Array) -> Array:

@@ -317,7 +317,7 @@ def test_newton_multipliers_undo_the_augmented_lagrangian_term():
     B, delta, rho = convexify(W, 0.0, equality_rows(problem, der.J, rows), 0.0)
     assert delta == 0.0 and rho > 0.0
     st = State(pt=pt, der=der, B=B, mu=np.zeros(1))
-    qp, _ = qp_step(problem, Options().for_problem(problem), st, 0.0)
+    qp, _, _ = qp_step(problem, Options().for_problem(problem), st, 0.0)
     assert qp.found and not qp.elastic
     np.testing.assert_allclose(B @ qp.d + der.g - der.J.T @ qp.lam_nl, 0.0, atol=1e-10)
     fixed = newton_multipliers(problem, st, qp, rows, rho)

@@ -8,6 +8,7 @@ structure, once per solve, by the rule of :func:`choose_qp_solver`; every measur
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -176,45 +177,67 @@ def _ldp_factor(P: np.ndarray, n: int, bounded: int, equalities: int) -> np.ndar
 def _daqp(problem: qpsolvers.Problem, initvals: Any, **options: Any) -> qpsolvers.Solution:
     """qpsolvers' ``daqp_solve_problem`` for dense data: rows ordered bounds, ``G x <= h``, ``A x = b`` (sense 5),
     absent sides at :data:`_DAQP_INFINITY`, multipliers split back into ``z_box``, ``z`` and ``y``."""
-    P, q, G, h, A, b, lb, ub = problem.unpack()
-    n = q.size
-    ms = n if (lb is not None or ub is not None) else 0
-    mineq = 0 if G is None else G.shape[0]
-    meq = 0 if A is None else A.shape[0]
-    m = ms + mineq + meq
-    bupper = np.empty(m)
-    blower = np.full(m, -_DAQP_INFINITY)
-    if ms:
-        bupper[:ms] = _DAQP_INFINITY if ub is None else ub
-        if lb is not None:
-            blower[:ms] = lb
-    if mineq:
-        bupper[ms:ms + mineq] = h
-    if meq:
-        bupper[ms + mineq:] = b
-    if mineq and meq:
-        rows = np.empty((mineq + meq, n))
-        rows[:mineq] = G
-        rows[mineq:] = A
-    else:
-        rows = G if mineq else A if meq else np.zeros((0, n))
-    sense = np.zeros(m, dtype=np.intc)  # (DAQP's C int; numpy's intc, the fast spelling of ctypes.c_int)
-    sense[ms + mineq:] = _DAQP_EQUALITY
-    L = _ldp_factor(P, n, ms, meq)
+    P, q = problem.P, problem.q
+    data = _DaqpRows.of(problem)
+    L = _ldp_factor(P, q.size, data.ms, data.meq)
     if L is None:
-        x, obj, exitflag, info = _daqp_module.solve(P, q, rows, bupper, blower, sense, primal_start=initvals,
-                                                    **options)
+        x, obj, exitflag, info = _daqp_module.solve(P, q, data.rows, data.upper, data.lower, data.sense,
+                                                    primal_start=initvals, **options)
     else:  # in u = L^T x: min 1/2 |u|^2 + (L^-1 q)^T u, rows (rows L^-T) u, the same bounds and multipliers
         # (a new identity each call: DAQP takes its arrays writable)
         start = None if initvals is None else L.T @ initvals
+        rows = data.rows
         rows_u = np.ascontiguousarray(lapack.dtrtrs(L, rows.T, lower=1)[0].T) if rows.shape[0] else rows
-        u, obj, exitflag, info = _daqp_module.solve(np.eye(n), lapack.dtrtrs(L, q, lower=1)[0], rows_u, bupper,
-                                                    blower, sense, primal_start=start, **options)
+        u, obj, exitflag, info = _daqp_module.solve(np.eye(q.size), lapack.dtrtrs(L, q, lower=1)[0], rows_u,
+                                                    data.upper, data.lower, data.sense, primal_start=start, **options)
         x = lapack.dtrtrs(L, u, lower=1, trans=1)[0] if exitflag > 0 else u
     sol = qpsolvers.Solution(problem)
     sol.found = exitflag > 0
     if sol.found:
         lam = info["lam"]
+        ms, mineq = data.ms, data.mineq
         sol.x, sol.obj = x, obj
         sol.z_box, sol.z, sol.y = lam[:ms], lam[ms:ms + mineq], lam[ms + mineq:]
     return sol
+
+
+@dataclass(frozen=True)
+class _DaqpRows:
+    """A QP's constraints in DAQP's layout: ``lower <= [I; G; A] x <= upper`` (the identity block only with bounds,
+    ``ms`` rows), ``sense`` marking the equality rows, absent sides at :data:`_DAQP_INFINITY`."""
+
+    rows: np.ndarray
+    upper: np.ndarray
+    lower: np.ndarray
+    sense: np.ndarray
+    ms: int
+    mineq: int
+    meq: int
+
+    @classmethod
+    def of(cls, problem: qpsolvers.Problem) -> _DaqpRows:
+        _, q, G, h, A, b, lb, ub = problem.unpack()
+        n = q.size
+        ms = n if (lb is not None or ub is not None) else 0
+        mineq = 0 if G is None else G.shape[0]
+        meq = 0 if A is None else A.shape[0]
+        m = ms + mineq + meq
+        upper = np.empty(m)
+        lower = np.full(m, -_DAQP_INFINITY)
+        if ms:
+            upper[:ms] = _DAQP_INFINITY if ub is None else ub
+            if lb is not None:
+                lower[:ms] = lb
+        if mineq:
+            upper[ms:ms + mineq] = h
+        if meq:
+            upper[ms + mineq:] = b
+        if mineq and meq:
+            rows = np.empty((mineq + meq, n))
+            rows[:mineq] = G
+            rows[mineq:] = A
+        else:
+            rows = G if mineq else A if meq else np.zeros((0, n))
+        sense = np.zeros(m, dtype=np.intc)  # (DAQP's C int; numpy's intc, the fast spelling of ctypes.c_int)
+        sense[ms + mineq:] = _DAQP_EQUALITY
+        return cls(rows, upper, lower, sense, ms, mineq, meq)

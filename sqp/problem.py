@@ -142,6 +142,52 @@ class StartValues:
     J: tuple[Any, ...]
 
 
+#: One of SLSQP's constraint dicts as :attr:`Problem.slsqp_rows` builds it: its kind, the rows' places in the
+#: concatenated multipliers, their signs and which of them are two-sided.
+_SlsqpPart = tuple[str, Array, Array, NDArray[np.bool_]]
+
+
+def _slsqp_parts(offset: int, lb: Array, ub: Array) -> tuple[_SlsqpPart | None, _SlsqpPart | None]:
+    """The equality dict and the inequality dict scipy's SLSQP makes of one constraint with sides ``lb``, ``ub``
+    whose rows start at ``offset`` (None where it makes none): ``lb == ub`` rows; then rows with a finite lower side
+    (sign +1), then those with a finite upper side (sign -1)."""
+    eq = lb == ub
+    low = np.flatnonzero(~eq & np.isfinite(lb))
+    up = np.flatnonzero(~eq & np.isfinite(ub))
+    both = np.isfinite(lb) & np.isfinite(ub) & ~eq
+    ineq = ("ineq", offset + np.concatenate([low, up]), np.concatenate([np.ones(low.size), -np.ones(up.size)]),
+            np.concatenate([both[low], both[up]]))
+    count = int(np.sum(eq))
+    eq_part = ("eq", offset + np.flatnonzero(eq), np.ones(count), np.zeros(count, dtype=bool)) if count else None
+    return eq_part, (ineq if ineq[1].size else None)
+
+
+def _slsqp_order(sides: list[tuple[Array, Array]]) -> list[_SlsqpPart]:
+    """SLSQP's dicts of constraints with these sides, in its order: every equality dict, then every inequality dict,
+    an inequality dict placed with its constraint when that has no equality rows and appended after all otherwise."""
+    offsets = np.cumsum([0] + [lb.size for lb, _ in sides])
+    placed: list[_SlsqpPart] = []
+    appended: list[_SlsqpPart] = []
+    for k, (lb, ub) in enumerate(sides):
+        eq, ineq = _slsqp_parts(int(offsets[k]), lb, ub)
+        if eq is not None:
+            placed.append(eq)
+            if ineq is not None:
+                appended.append(ineq)
+        elif ineq is not None:
+            placed.append(ineq)
+    order = placed + appended
+    return [p for p in order if p[0] == "eq"] + [p for p in order if p[0] == "ineq"]
+
+
+def _stack_parts(parts: list[_SlsqpPart]) -> tuple[NDArray[np.intp], Array, NDArray[np.bool_]]:
+    """The parts' indices, signs and two-sided flags, each concatenated."""
+    if not parts:
+        return np.zeros(0, dtype=np.intp), np.zeros(0), np.zeros(0, dtype=bool)
+    return (np.concatenate([p[1] for p in parts]).astype(np.intp), np.concatenate([p[2] for p in parts]),
+            np.concatenate([p[3] for p in parts]))
+
+
 @dataclass(frozen=True)
 class Problem:
     """A validated nonlinear program ``min f(x)`` s.t. bounds, linear rows and nonlinear rows.
@@ -256,29 +302,7 @@ class Problem:
         """
         if not self.linear_sizes and all(b.dict_style for b in self.blocks):
             return self._slsqp_rows_of_dicts()
-        offsets = np.cumsum([0] + [lb.size for lb, _ in self.constraint_sides()])
-        placed: list[tuple[str, Array, Array, NDArray[np.bool_]]] = []
-        appended: list[tuple[str, Array, Array, NDArray[np.bool_]]] = []
-        for k, (lb, ub) in enumerate(self.constraint_sides()):
-            eq = lb == ub
-            low = np.flatnonzero(~eq & np.isfinite(lb))
-            up = np.flatnonzero(~eq & np.isfinite(ub))
-            both = np.isfinite(lb) & np.isfinite(ub) & ~eq
-            ineq = ("ineq", offsets[k] + np.concatenate([low, up]),
-                    np.concatenate([np.ones(low.size), -np.ones(up.size)]), np.concatenate([both[low], both[up]]))
-            if np.any(eq):
-                placed.append(("eq", offsets[k] + np.flatnonzero(eq), np.ones(int(np.sum(eq))),
-                               np.zeros(int(np.sum(eq)), dtype=bool)))
-                if ineq[1].size:
-                    appended.append(ineq)
-            elif ineq[1].size:
-                placed.append(ineq)
-        order = placed + appended
-        parts = [p for p in order if p[0] == "eq"] + [p for p in order if p[0] == "ineq"]
-        if not parts:
-            return np.zeros(0, dtype=np.intp), np.zeros(0), np.zeros(0, dtype=bool)
-        return (np.concatenate([p[1] for p in parts]).astype(np.intp), np.concatenate([p[2] for p in parts]),
-                np.concatenate([p[3] for p in parts]))
+        return _stack_parts(_slsqp_order(self.constraint_sides()))
 
     def _slsqp_rows_of_dicts(self) -> tuple[NDArray[np.intp], Array, NDArray[np.bool_]]:
         """:attr:`slsqp_rows` when every constraint is an SLSQP dict (``eq``: ``lb = ub = 0``, ``ineq``: ``lb = 0,

@@ -8,6 +8,7 @@ without trusting its multipliers.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -46,40 +47,55 @@ def _gradients(prob: TestProblem, x: Array) -> tuple[list[Array], list[Array], l
     eq_rows: list[Array] = []
     ineq_rows: list[Array] = []
     values: list[Array] = []
-    n = x.size
     for con in prob.constraints:
         if isinstance(con, LinearConstraint):
-            A = np.atleast_2d(np.asarray(con.A.toarray() if hasattr(con.A, "toarray") else con.A, dtype=float))
-            v = A @ x
-            lb = np.broadcast_to(np.asarray(con.lb, float), v.shape)
-            ub = np.broadcast_to(np.asarray(con.ub, float), v.shape)
-            for i in range(v.size):
-                scale = max(1.0, abs(v[i]))
-                if lb[i] == ub[i]:
-                    eq_rows.append(A[i])
-                else:
-                    if np.isfinite(lb[i]) and v[i] - lb[i] <= ACTIVE_TOL * scale:
-                        ineq_rows.append(A[i])
-                    if np.isfinite(ub[i]) and ub[i] - v[i] <= ACTIVE_TOL * scale:
-                        ineq_rows.append(-A[i])
+            _linear_rows(con, x, eq_rows, ineq_rows)
         else:
-            c = np.atleast_1d(np.asarray(con["fun"](x), dtype=float))
-            J = np.atleast_2d(np.asarray(con["jac"](x), dtype=float)).reshape(c.size, n)
-            for i in range(c.size):
-                if con["type"] == "eq":
-                    eq_rows.append(J[i])
-                elif c[i] <= ACTIVE_TOL * max(1.0, np.max(np.abs(J[i]))):
-                    ineq_rows.append(J[i])
-            values.append(c)
-    if prob.bounds is not None:
-        for j, (lo, hi) in enumerate(prob.bounds):
-            e = np.zeros(n)
-            e[j] = 1.0
-            if lo is not None and x[j] - lo <= ACTIVE_TOL * max(1.0, abs(lo)):
-                ineq_rows.append(e)
-            if hi is not None and hi - x[j] <= ACTIVE_TOL * max(1.0, abs(hi)):
-                ineq_rows.append(-e)
+            values.append(_nonlinear_rows(con, x, eq_rows, ineq_rows))
+    ineq_rows.extend(_active_bounds(prob, x))
     return eq_rows, ineq_rows, values
+
+
+def _linear_rows(con: LinearConstraint, x: Array, eq_rows: list[Array], ineq_rows: list[Array]) -> None:
+    """Append a LinearConstraint's equality rows and active inequality sides (signed into the feasible side)."""
+    A = np.atleast_2d(np.asarray(con.A.toarray() if hasattr(con.A, "toarray") else con.A, dtype=float))
+    v = A @ x
+    lb = np.broadcast_to(np.asarray(con.lb, float), v.shape)
+    ub = np.broadcast_to(np.asarray(con.ub, float), v.shape)
+    for i in range(v.size):
+        scale = max(1.0, abs(v[i]))
+        if lb[i] == ub[i]:
+            eq_rows.append(A[i])
+            continue
+        if np.isfinite(lb[i]) and v[i] - lb[i] <= ACTIVE_TOL * scale:
+            ineq_rows.append(A[i])
+        if np.isfinite(ub[i]) and ub[i] - v[i] <= ACTIVE_TOL * scale:
+            ineq_rows.append(-A[i])
+
+
+def _nonlinear_rows(con: dict[str, Any], x: Array, eq_rows: list[Array], ineq_rows: list[Array]) -> Array:
+    """Append an SLSQP dict's equality rows and active inequality rows; return its values at ``x``."""
+    c = np.atleast_1d(np.asarray(con["fun"](x), dtype=float))
+    J = np.atleast_2d(np.asarray(con["jac"](x), dtype=float)).reshape(c.size, x.size)
+    for i in range(c.size):
+        if con["type"] == "eq":
+            eq_rows.append(J[i])
+        elif c[i] <= ACTIVE_TOL * max(1.0, np.max(np.abs(J[i]))):
+            ineq_rows.append(J[i])
+    return c
+
+
+def _active_bounds(prob: TestProblem, x: Array) -> list[Array]:
+    """The active bounds as signed unit rows."""
+    rows: list[Array] = []
+    for j, (lo, hi) in enumerate(prob.bounds or ()):
+        e = np.zeros(x.size)
+        e[j] = 1.0
+        if lo is not None and x[j] - lo <= ACTIVE_TOL * max(1.0, abs(lo)):
+            rows.append(e)
+        if hi is not None and hi - x[j] <= ACTIVE_TOL * max(1.0, abs(hi)):
+            rows.append(-e)
+    return rows
 
 
 def stationarity(prob: TestProblem, x: Array) -> float:

@@ -130,8 +130,11 @@ def _merit_noise(problem: Problem, ev: Evaluator, st: State, d: Array, mu: Array
 
 def _backtrack(problem: Problem, options: Options, ev: Evaluator, st: State, d: Array, mu: Array, v_lin: Array,
                phi0: float, D: float, noise: float) -> tuple[Search, Point | None]:
-    """Backtracking from the full step with the Armijo test relaxed by ``2 noise``, and one second-order correction
-    of the full step; the search's result and the full step's point (None when it was not evaluated)."""
+    """Backtracking from the full step with the Armijo test of the full step (and of its second-order correction)
+    relaxed by ``2 noise`` and the rounding of ``phi0``, and one second-order correction of the full step; the
+    search's result and the full step's point (None when it was not evaluated). The shortened steps get the plain
+    test: a short step accepted within the noise would be no progress either way, and would only postpone the
+    verdict of the stall test (a run of such steps of 1e-11 reached the iteration limit)."""
     alpha = 1.0
     tried_soc = not options.second_order_correction or problem.nonlinear.lb.size == 0
     nonfinite: str | None = None
@@ -148,7 +151,7 @@ def _backtrack(problem: Problem, options: Options, ev: Evaluator, st: State, d: 
         phi = merit_at(trial, mu)
         if alpha == 1.0:
             full = trial
-        if phi <= phi0 + ARMIJO * alpha * D + relax:
+        if phi <= phi0 + ARMIJO * alpha * D + (relax if alpha == 1.0 else 0.0):
             der = ev.derivatives(trial)
             if der.finite:
                 return Search(trial, der, alpha, False, mu=mu, noise=noise), full

@@ -92,6 +92,33 @@ def warn_angle(value: float, name: str) -> None:
             "rad instead (angles are literal, so this asks the wire to loop).", SuspiciousValueWarning, stacklevel=4)
 
 
+#: Wire diameters outside this range (mm) are no guidewire or catheter: the finest neurovascular wires are 0.2 mm
+#: (0.008 in), the thickest catheters about 3 mm (9 F); a value below the range is most likely metres or inches.
+DIAMETER_RANGE_MM = (0.05, 5.0)
+
+#: Lumen radii above this (mm) exceed the largest human vessel (the aortic root, about 20 mm): most likely µm.
+RADIUS_WARNING_MM = 50.0
+
+
+def warn_diameter(value: float, name: str) -> None:
+    """Warn (:class:`SuspiciousValueWarning`) when a wire diameter lies outside :data:`DIAMETER_RANGE_MM`."""
+    lo, hi = DIAMETER_RANGE_MM
+    if value < lo:
+        warnings.warn(f"{name} is {fmt(value)} mm, thinner than any guidewire: if it is in metres give "
+                      f"{value * 1e3:g} mm, if in inches {value * 25.4:g} mm.", SuspiciousValueWarning, stacklevel=4)
+    elif value > hi:
+        warnings.warn(f"{name} is {fmt(value)} mm, thicker than any guidewire or catheter: if it is in µm give "
+                      f"{value * 1e-3:g} mm.", SuspiciousValueWarning, stacklevel=4)
+
+
+def warn_radius(value: float, name: str) -> None:
+    """Warn (:class:`SuspiciousValueWarning`) when a lumen radius exceeds :data:`RADIUS_WARNING_MM`."""
+    if value > RADIUS_WARNING_MM:
+        warnings.warn(f"{name} is {fmt(value)} mm, wider than any blood vessel (the aorta: about 15 mm): if it is in "
+                      f"µm give {value * 1e-3:g} mm; if it is a diameter give half of it.", SuspiciousValueWarning,
+                      stacklevel=4)
+
+
 def warn_modulus(value: float, name: str) -> None:
     """Warn (:class:`SuspiciousValueWarning`) when a Young's modulus is below 100 MPa: likely GPa, not MPa."""
     if value < MODULUS_WARNING_MPA:

@@ -39,6 +39,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .fields import fmt as _fmt
 from .fields import fmt_point as _fmt_point
+from .fields import warn_radius
 from .vessel_geometry import (  # noqa: F401  (the constants and Clearance are part of this module's API)
     BEND_LIMIT,
     HULL_SAMPLES,
@@ -119,6 +120,7 @@ def _radius(value: Any, count: int, name: str) -> float | tuple[float, ...]:
         if not math.isfinite(r) or r <= 0.0:
             raise ValueError(f"{label} is {_fmt(r)}; the lumen radius must be a positive number of mm (a radius, "
                              "not a diameter).")
+        warn_radius(r, label)
         out.append(r)
     return out[0] if not isinstance(value, Sequence | np.ndarray) else tuple(out)
 

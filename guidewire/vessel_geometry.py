@@ -222,7 +222,7 @@ def _check_bend(curve: _Curve, points: FloatArray, name: str) -> None:
     bend = np.abs(curve.kappa) * curve.radius
     worst = int(np.argmax(bend))
     if bend[worst] >= BEND_LIMIT:
-        i = int(np.argmin(np.hypot(*(points - curve.samples[worst]).T)))
+        i = _nearest_point(curve, worst)
         raise ValueError(
             f"{name}.centreline bends tighter than the lumen radius near point {i} {_fmt_point(points[i])}: bend "
             f"radius {1.0 / abs(curve.kappa[worst]):.3g} mm < radius {curve.radius[worst]:.3g} mm, so the tube "
@@ -237,13 +237,19 @@ def _check_bend(curve: _Curve, points: FloatArray, name: str) -> None:
         bad = np.flatnonzero(far & close)
         if bad.size:
             a, b = sorted((int(i[bad[0]]), int(j[bad[0]])))
-            pa = int(np.argmin(np.hypot(*(points - curve.samples[a]).T)))
-            pb = int(np.argmin(np.hypot(*(points - curve.samples[b]).T)))
+            pa, pb = _nearest_point(curve, a), _nearest_point(curve, b)
             raise ValueError(
                 f"{name}.centreline comes back within the lumen radius of itself: near point {pa} "
                 f"{_fmt_point(points[pa])} and point {pb} {_fmt_point(points[pb])} the tube overlaps itself; move "
                 "those stretches apart or reduce the radius."
             )
+
+
+def _nearest_point(curve: _Curve, sample: int) -> int:
+    """The centreline point nearest to a curve sample *along the curve* (by the spline's parameter): where the tube
+    comes back onto itself the two samples lie at one place, and the nearest point in space would name one point
+    twice."""
+    return int(np.argmin(np.abs(curve.breaks - curve.u[sample])))
 
 
 class _WallGeometry:

@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .fields import real as _real
-from .fields import warn_modulus
+from .fields import warn_diameter, warn_modulus
 
 SCHEMES = ("second_order", "paper")
 """Discretisations of the bending energy; see :mod:`guidewire.formulation`."""
@@ -66,6 +66,8 @@ class Section:
                 object.__setattr__(self, name, _real(getattr(self, name), f"section.{name}", positive=True))
         if self.youngs_modulus is not None:
             warn_modulus(self.youngs_modulus, "section.youngs_modulus")
+        if self.diameter is not None:
+            warn_diameter(self.diameter, "section.diameter")
         object.__setattr__(self, "rest_curvature", _real(self.rest_curvature, "section.rest_curvature"))
 
     @classmethod
@@ -162,6 +164,7 @@ class Wire:
                 raise ValueError(f"wire.{name} is {value}; it must be positive.")
             object.__setattr__(self, name, value)
         warn_modulus(self.youngs_modulus, "wire.youngs_modulus")
+        warn_diameter(self.diameter, "wire.diameter")
         if self.moment_of_inertia is not None:
             inertia = _real(self.moment_of_inertia, "wire.moment_of_inertia")
             if inertia <= 0.0:

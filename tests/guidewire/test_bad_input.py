@@ -8,12 +8,14 @@ called) and through the command line (exit status 2, one line on stderr, no trac
 from __future__ import annotations
 
 import re
+import warnings
 
 import pytest
 
 import sqp
-from guidewire import cli, load_scene, solve
+from guidewire import Section, Vessel, Wire, cli, load_scene, solve
 from guidewire.feasibility import infeasibility
+from guidewire.fields import SuspiciousValueWarning
 
 VALID = """\
 [wire]
@@ -135,3 +137,27 @@ def test_bad_scene_exits_2_with_one_line(case, tmp_path, capsys, monkeypatch):
     assert captured.out == ""
     assert captured.err.count("\n") == 1 and captured.err.startswith("error: ")
     assert re.sub(r"\s+", " ", words) in captured.err and "Traceback" not in captured.err
+
+
+@pytest.mark.parametrize("diameter, unit", [(0.00036, "metres"), (0.0009, "metres"), (0.014, "inches"),
+                                            (360.0, "µm"), (890.0, "µm")])
+def test_a_wire_diameter_in_the_wrong_unit_warns_naming_the_field_and_the_unit(diameter, unit):
+    with pytest.warns(SuspiciousValueWarning, match=rf"wire\.diameter is .* mm.*{unit}"):
+        Wire(length=100.0, bars=10, diameter=diameter)
+    with pytest.warns(SuspiciousValueWarning, match=r"section\.diameter"):
+        Section(length=10.0, diameter=diameter)
+
+
+@pytest.mark.parametrize("diameter", [0.05, 0.2, 0.36, 0.89, 2.0, 5.0])
+def test_guidewire_and_catheter_diameters_pass_silently(diameter):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        Wire(length=100.0, bars=10, diameter=diameter)
+
+
+def test_a_lumen_radius_in_micrometres_warns_naming_the_field():
+    with pytest.warns(SuspiciousValueWarning, match=r"vessel\.radius is 1500 mm.*µm give 1\.5 mm"):
+        Vessel(centreline=[[0.0, 0.0], [30000.0, 0.0]], radius=1500.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        Vessel(centreline=[[0.0, 0.0], [300.0, 0.0]], radius=15.0)  # the aorta

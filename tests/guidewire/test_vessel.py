@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import pickle
+import re
 from importlib import resources
 from pathlib import Path
 
@@ -353,3 +354,15 @@ def test_clearance_of_points_extending_a_kept_query_equals_a_fresh_one():
     direct = fresh.clearance(p)
     for name in ("distance", "normal", "boundary", "curvature"):
         np.testing.assert_array_equal(getattr(longer, name), getattr(direct, name), err_msg=name)
+
+
+@pytest.mark.parametrize("shift", [0.0, 5.0, -5.0, 10.0])
+def test_a_centreline_coming_back_onto_itself_names_the_two_distant_stretches(shift):
+    """A loop that returns across its own start: the message names one point at each stretch (points 1 and 6 or
+    7 here, whichever the crossing is nearer along the curve), never one point twice, whatever the loop's offset."""
+    pts = [[0, 0], [30, 0], [60, 0], [70, 10], [70, 30], [60, 40], [40 + shift, 30], [30 + shift, -20],
+           [30 + shift, -50]]
+    with pytest.raises(ValueError, match="comes back within the lumen radius") as err:
+        Vessel(centreline=pts, radius=2.0)
+    named = [int(k) for k in re.findall(r"point (\d+) \(", str(err.value))]
+    assert len(named) == 2 and named[0] in (0, 1, 2) and named[1] in (6, 7), str(err.value)

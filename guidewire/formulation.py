@@ -192,6 +192,19 @@ class Formulation:
         return max((float(np.max(b.violation(self.model, phi, points, r), initial=0.0))
                     for b, r in zip(self.blocks, rows, strict=True)), default=0.0)
 
+    def worst_violation(self, phi: FloatArray, nodes: FloatArray | None = None) -> tuple[float, Block | None, int]:
+        """The largest violation at ``phi`` (as :meth:`max_violation`), the block it belongs to and its node (0 and
+        None, -1 when nothing is violated)."""
+        points = self.model.chain.nodes(phi) if nodes is None else nodes
+        rows: tuple[Rows | None, ...] = self.rows or (None,) * len(self.blocks)
+        worst: tuple[float, Block | None, int] = (0.0, None, -1)
+        for block, r in zip(self.blocks, rows, strict=True):
+            v = block.violation(self.model, phi, points, r)
+            if v.size and float(v.max()) > worst[0]:
+                k = int(np.argmax(v))
+                worst = (float(v[k]), block, int(block.violation_nodes(self.model)[k]))
+        return worst
+
     def multipliers(self, res: Any) -> list[FloatArray]:
         """One array per block (in :attr:`blocks` order) from an ``sqp`` result, in the sign convention of
         :mod:`guidewire.blocks.base` (the same in both layouts)."""

@@ -339,10 +339,12 @@ SHAPE_REJECTED = 20
 VIOLATION_FACTOR = 10.0
 
 
-def shape_defect(form: Formulation, nodes: FloatArray, max_violation: float, tol: float) -> str | None:
+def shape_defect(form: Formulation, phi: FloatArray, nodes: FloatArray, max_violation: float,
+                 tol: float) -> str | None:
     """What a user would see wrong with a converged shape, or None: bars that cross each other
     (:func:`guidewire.crossing.crossing_bars`), or a constraint violated beyond ``VIOLATION_FACTOR · tol · L``
-    anywhere (walls at every node, not only their working set)."""
+    anywhere (walls and the lumen at every node, not only their working set), named by its block, node, arc length
+    and excess."""
     crossing = crossing_bars(nodes)
     if crossing is not None:
         i, j = crossing
@@ -350,7 +352,12 @@ def shape_defect(form: Formulation, nodes: FloatArray, max_violation: float, tol
                 f"{form.chain.arc_lengths[j]:.4g} mm): the shape intersects itself, which no wire can do")
     limit = VIOLATION_FACTOR * tol * max(1.0, form.scene.wire.length)
     if max_violation > limit:
-        return f"a constraint is violated by {max_violation:.3g} (mm or rad) at the answer, more than {limit:.3g}"
+        amount, block, node = form.worst_violation(phi, nodes)
+        if block is None:
+            return f"a constraint is violated by {max_violation:.3g} at the answer, more than {limit:.3g}"
+        s = float(form.chain.arc_lengths[node]) if 0 <= node < form.chain.arc_lengths.size else float("nan")
+        return (f"the {block.describe(form.model)} is violated at node {node} (s = {s:.4g} mm) by {amount:.3g} "
+                f"{block.unit}, more than the {limit:.3g} allowed")
     return None
 
 
@@ -368,7 +375,7 @@ def build_solution(form: Formulation, res: Any, solve_time_s: float, *, iteratio
     max_violation = form.max_violation(phi, nodes)
     success, status = bool(res.success), int(res.status)
     message = str(res.message) if message is None else message
-    defect = shape_defect(form, nodes, max_violation, tol) if success else None
+    defect = shape_defect(form, phi, nodes, max_violation, tol) if success else None
     vessel = form.scene.vessel
     if vessel is not None and bool(vessel.past_end(nodes[-1:])[0]):
         message = f"{message} The tip has left the vessel past its far end."

@@ -23,6 +23,7 @@ class Angle(Block):
     """
 
     kind: ClassVar[str] = "angle"
+    unit: ClassVar[str] = "rad"
 
     @classmethod
     def build(cls, model: Model, working_set: Any = None) -> list[Block]:

@@ -149,6 +149,8 @@ class Block:
     """
 
     kind: ClassVar[str] = ""
+    #: The unit of the rows' values and violations (``"mm"``, or ``"rad"`` for angle rows).
+    unit: ClassVar[str] = "mm"
     members: tuple[int, ...]
     nodes: IntArray
     index: int = field(default=-1, compare=False)
@@ -197,6 +199,14 @@ class Block:
         else:
             values = rows.values(phi)
         return row_violation(values, rows.lb, rows.ub)
+
+    def violation_nodes(self, model: Model) -> IntArray:
+        """The node each entry of :meth:`violation` belongs to (default: the rows' nodes)."""
+        return self.nodes
+
+    def describe(self, model: Model) -> str:
+        """What the block constrains, for messages: the kind and its members (a contact's label, a wall's index)."""
+        return f"{self.kind.replace('_', ' ')} {', '.join(str(m) for m in self.members)}".strip()
 
     def refine(self, model: Model, phi: FloatArray, tolerance: float) -> Block | None:
         """A block whose rows fit the answer ``phi`` better — its working set grown by the rows ``phi`` violates, or

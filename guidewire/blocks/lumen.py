@@ -155,6 +155,13 @@ class Lumen(Block):
         points = model.chain.nodes(phi) if points is None else points
         return np.maximum(-self.slack(model, points), 0.0)
 
+    def violation_nodes(self, model: Model) -> IntArray:
+        """Every node 1..n (:meth:`violation` checks them all)."""
+        return np.arange(1, model.n + 1)
+
+    def describe(self, model: Model) -> str:
+        return "lumen (the wire outside the vessel)"
+
     def refine(self, model: Model, phi: FloatArray, tolerance: float) -> Block | None:
         """Add the nodes that leave the lumen (and their neighbours) and re-centre every row whose node nearly
         touches it while the model and the true distance there differ by more than :data:`PLANE_TOLERANCE`

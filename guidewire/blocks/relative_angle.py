@@ -22,6 +22,7 @@ class RelativeAngle(Block):
     bound is internal to the wire, so it exerts no load on it."""
 
     kind: ClassVar[str] = "relative_angle"
+    unit: ClassVar[str] = "rad"
 
     @classmethod
     def build(cls, model: Model, working_set: Any = None) -> list[Block]:

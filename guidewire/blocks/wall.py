@@ -74,6 +74,13 @@ class Wall(Block):
         points = model.chain.nodes(phi) if points is None else points
         return np.maximum(-self.gaps(model, points), 0.0)
 
+    def violation_nodes(self, model: Model) -> IntArray:
+        """Every node 1..n (:meth:`violation` checks them all)."""
+        return np.arange(1, model.n + 1)
+
+    def describe(self, model: Model) -> str:
+        return f"wall {self.members[0]} (the wire beyond it)"
+
     def refine(self, model: Model, phi: FloatArray, tolerance: float) -> Block | None:
         violated = np.flatnonzero(self.gaps(model, model.chain.nodes(phi)) < -tolerance) + 1
         if not violated.size:

@@ -1,0 +1,45 @@
+"""A rejected shape says which block, which node, its arc length and by how much."""
+
+from __future__ import annotations
+
+import re
+from importlib import resources
+
+import numpy as np
+import pytest
+
+import guidewire
+from guidewire.result import shape_defect
+
+VESSELS = resources.files("guidewire") / "scenes" / "vessels"
+
+
+@pytest.mark.parametrize("name", ["bend.toml", "tortuous.toml"])
+def test_a_node_pushed_out_of_the_lumen_is_named_with_its_excess(name):
+    """Bend the solved wire at a random joint by a random angle: the message names the lumen, the node that is
+    farthest outside (found here from the vessel's own clearance) and its excess in mm."""
+    scene = guidewire.load_scene(str(VESSELS / name))
+    sol = guidewire.solve(scene)
+    assert sol.success, sol.message
+    form = guidewire.formulate(scene)
+    rng = np.random.default_rng(len(name))
+    checked = 0
+    for _ in range(5):
+        phi = sol.bar_angles.copy()
+        joint = int(rng.integers(phi.size // 3, phi.size - 2))
+        phi[joint:] += rng.choice([-1.0, 1.0]) * rng.uniform(0.2, 0.5)
+        nodes = form.model.chain.nodes(phi)
+        lumen = next(b for b in form.blocks if b.kind == "lumen")
+        excess = lumen.violation(form.model, phi, nodes)
+        if excess.max() <= 1e-3:
+            continue
+        node = int(np.argmax(excess)) + 1
+        message = shape_defect(form, phi, nodes, form.max_violation(phi, nodes), 1e-8)
+        assert message is not None and message.startswith("the lumen"), message
+        found = re.search(r"node (\d+) \(s = ([0-9.]+) mm\) by ([0-9.e+-]+) mm", message)
+        assert found, message
+        assert int(found.group(1)) == node
+        assert float(found.group(2)) == pytest.approx(sol.s[node], rel=1e-3)
+        assert float(found.group(3)) == pytest.approx(excess.max(), rel=1e-2)
+        checked += 1
+    assert checked >= 3  # (a kink too small to leave the lumen is skipped, not passed)

@@ -9,10 +9,13 @@ Needs matplotlib (the ``[plot]`` extra); it is imported only when a function her
 from __future__ import annotations
 
 import math
+import textwrap
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+import sqp
 
 from .result import Solution
 from .scene import Scene
@@ -21,7 +24,10 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-STRESS_CMAP = "jet"
+STRESS_CMAP = "viridis"  # (perceptually uniform, readable in grey and by colour-blind readers)
+
+#: The colour of a wire whose solve failed: drawn, so the user sees what was rejected, but never in stress colours.
+FAILURE_COLOR = "crimson"
 """Colour map of the bending stress (the paper's figures use a rainbow map)."""
 
 
@@ -88,7 +94,8 @@ def draw_vessel(ax: Axes, vessel: Any, *, color: str = "0.35") -> None:
 def draw_solution(
     ax: Axes, solution: Solution, *, norm: Any = None, reference: Any = None, linewidth: float = 3.0
 ) -> Any:
-    """Draw one solved wire on ``ax``, coloured by bending stress (MPa); returns the ``LineCollection``.
+    """Draw one solved wire on ``ax``, coloured by bending stress (MPa); returns the ``LineCollection`` (None for a
+    failed solve, drawn dashed in :data:`FAILURE_COLOR` without stresses).
 
     Each bar takes the larger stress of its two end nodes. ``reference`` (a continuum shape with ``.position(s)``)
     is drawn as a thin dashed black line on top.
@@ -97,6 +104,11 @@ def draw_solution(
     from matplotlib.collections import LineCollection
 
     segments = np.stack((solution.nodes[:-1], solution.nodes[1:]), axis=1)
+    if not solution.success:  # (no stresses of a failed solve: the shape in the failure colour, dashed)
+        failed = LineCollection(segments, colors=FAILURE_COLOR, linewidths=0.6 * linewidth, linestyles="--",
+                                zorder=2, label="failed solve")
+        ax.add_collection(failed)
+        return None
     stress = np.maximum(solution.bending_stress_mpa[:-1], solution.bending_stress_mpa[1:])
     if norm is None:
         norm = mpl.colors.Normalize(0.0, max(float(stress.max()), 1e-12))
@@ -167,9 +179,52 @@ def plot_solution(solution: Solution, *, reference: Any = None, title: str | Non
     ax = fig.add_subplot()
     refs = None if reference is None else [reference]
     heading = f"{solution.scene.name} ({solution.scheme}), E = {solution.energy:.4g} N·mm" if title is None else title
+    if not solution.success:
+        heading = f"FAILED ({status_name(solution.status)}): {solution.scene.name}" if title is None else title
+        plot_panel(ax, solution.scene, [solution], references=refs, title=heading,
+                   message=textwrap.fill(solution.message, 70))
+        ax.title.set_color(FAILURE_COLOR)
+        _fit_height(fig, ax)
+        return fig
     lines = plot_panel(ax, solution.scene, [solution], references=refs, title=heading)
+    draw_contact_forces(ax, solution)
     fig.colorbar(lines, ax=ax, label="bending stress σ (MPa)", shrink=0.8)
+    _fit_height(fig, ax)
     return fig
+
+
+def _fit_height(fig: Figure, ax: Axes) -> None:
+    """Size the figure's height to the panel's aspect (equal axes), so that a wide vessel leaves no blank band."""
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    width = fig.get_figwidth()
+    fig.set_figheight(float(np.clip(0.8 * width * (y1 - y0) / max(x1 - x0, 1e-9) + 1.0, 2.8, 8.0)))
+
+
+def status_name(status: int) -> str:
+    """The name of a :attr:`Solution.status` code (an :class:`sqp.Status`, or SHAPE_REJECTED)."""
+    from .result import SHAPE_REJECTED
+
+    if status == SHAPE_REJECTED:
+        return "SHAPE_REJECTED"
+    try:
+        return sqp.Status(status).name
+    except ValueError:
+        return str(status)
+
+
+def draw_contact_forces(ax: Axes, sol: Solution, *, scale: float | None = None) -> None:
+    """Arrows of the wall/lumen contact forces on the wire (length ∝ force; ``scale`` mm per N)."""
+    contacts = sol.contacts()
+    if not contacts:
+        return
+    forces = np.array([c["force_n"] for c in contacts])
+    if scale is None:
+        scale = 0.1 * float(np.ptp(sol.nodes, axis=0).max() or 1.0) / float(forces.max())
+    for c, f in zip(contacts, forces, strict=True):
+        tip = np.asarray(c["point"])
+        tail = tip + scale * f * np.asarray(c["normal"])  # the push points inwards, along −normal, onto the wire
+        ax.annotate("", xy=tip, xytext=tail, arrowprops={"arrowstyle": "->", "color": "tab:red", "lw": 1.2},
+                    zorder=4)
 
 
 def plot_group(

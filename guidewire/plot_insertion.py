@@ -10,23 +10,7 @@ from typing import Any
 import numpy as np
 
 from .insertion import Insertion
-from .plot import _matplotlib, plot_panel
-from .result import Solution
-
-
-def draw_contact_forces(ax: Any, sol: Solution, *, scale: float | None = None) -> None:
-    """Arrows of the wall/lumen contact forces on the wire (length ∝ force; ``scale`` mm per N)."""
-    contacts = sol.contacts()
-    if not contacts:
-        return
-    forces = np.array([c["force_n"] for c in contacts])
-    if scale is None:
-        scale = 0.1 * float(np.ptp(sol.nodes, axis=0).max() or 1.0) / float(forces.max())
-    for c, f in zip(contacts, forces, strict=True):
-        tip = np.asarray(c["point"])
-        tail = tip + scale * f * np.asarray(c["normal"])  # the push points inwards, along −normal, onto the wire
-        ax.annotate("", xy=tip, xytext=tail, arrowprops={"arrowstyle": "->", "color": "tab:red", "lw": 1.2},
-                    zorder=4)
+from .plot import _matplotlib, draw_contact_forces, plot_panel
 
 
 def plot_insertion(insertion: Insertion) -> Any:

@@ -59,6 +59,40 @@ def choose_layout(bars: int, hessian: str = "exact", scene: Scene | None = None)
     return "full" if hessian == "exact" and bars > FULL_SPACE_BARS else "reduced"
 
 
+#: Peak memory of a vessel scene's dense program of bar angles, in units of ``n^2`` float64 values (``n`` bars):
+#: measured 24-26 from the peak resident size at 200, 400 and 800 bars (the dense Hessian, its factor, the lumen
+#: rows' Jacobian and the QP's copies).
+DENSE_COPIES = 26
+
+
+def available_memory() -> int | None:
+    """Bytes of memory available to a new allocation (``MemAvailable`` of ``/proc/meminfo``), or None where unknown."""
+    try:
+        with open("/proc/meminfo") as info:
+            for line in info:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        return None
+    return None
+
+
+def check_memory(scene: Scene, bars: int, layout: str = "auto") -> None:
+    """Refuse, before any work, a vessel scene whose dense program of bar angles would not fit in memory: a
+    ValueError that gives the memory needed, the memory available and the largest bar count that fits."""
+    if scene.vessel is None or layout == "full":
+        return
+    need = DENSE_COPIES * 8.0 * float(bars) ** 2
+    have = available_memory()
+    if have is None or need <= have:
+        return
+    fits = int((have / (DENSE_COPIES * 8.0)) ** 0.5)
+    raise ValueError(
+        f"a vessel scene with {bars} bars needs about {need / 2**30:.1f} GiB for its dense program of bar angles "
+        f"({DENSE_COPIES} n² double values), more than the {have / 2**30:.1f} GiB available; use at most {fits} "
+        "bars (bars = ..., or fewer bars per mm in the scene file).")
+
+
 def solve(
     scene: Scene,
     *,
@@ -165,6 +199,7 @@ def solve(
         raise ValueError(f"layout is {layout!r}; expected 'auto', 'reduced' or 'full'.")
     if layout == "full" and hessian != "exact":
         raise ValueError("layout='full' needs hessian='exact' (the BFGS path is the paper's reduced program).")
+    check_memory(scene, scene.wire.bars if bars is None else int(bars), layout)
     start = time.perf_counter()
     with _blas_limit():
         first = _solve(scene, start, scheme, bars, initial_angles, initial_nodes, hessian, layout, multipliers0,

@@ -43,3 +43,28 @@ def test_a_node_pushed_out_of_the_lumen_is_named_with_its_excess(name):
         assert float(found.group(3)) == pytest.approx(excess.max(), rel=1e-2)
         checked += 1
     assert checked >= 3  # (a kink too small to leave the lumen is skipped, not passed)
+
+
+@pytest.mark.parametrize("available_gib", [0.5, 4.0, 23.0])
+def test_a_vessel_too_large_for_memory_is_refused_before_any_work(monkeypatch, capsys, available_gib):
+    """With ``available_gib`` of memory, the largest bar count the dense program fits is refused one bar above it
+    (ValueError giving the memory needed and the bars that fit) and accepted at it; the command line says the same
+    in one line with exit status 2, no traceback, in well under a second."""
+    import importlib
+    import time
+
+    from guidewire import cli
+
+    front = importlib.import_module("guidewire.solve")  # (the module: guidewire.solve is also the function)
+
+    monkeypatch.setattr(front, "available_memory", lambda: int(available_gib * 2**30))
+    scene = guidewire.load_scene(str(VESSELS / "bend.toml"))
+    fits = int((available_gib * 2**30 / (front.DENSE_COPIES * 8.0)) ** 0.5)
+    front.check_memory(scene, fits)
+    with pytest.raises(ValueError, match=rf"{fits + 1} bars needs about .* GiB .* use at most {fits} bars"):
+        front.check_memory(scene, fits + 1)
+    started = time.perf_counter()
+    code = cli.main(["solve", str(VESSELS / "bend.toml"), "--bars", str(4 * fits)])
+    err = capsys.readouterr().err
+    assert code == 2 and "GiB" in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert time.perf_counter() - started < 2.0

@@ -22,10 +22,13 @@ of a pickled 100-bar solution, 8 MB at 1000 bars), which nothing downstream uses
 
 from __future__ import annotations
 
+import contextlib
 import inspect
 import json
 import multiprocessing
 import os
+import signal
+import sys
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
@@ -129,12 +132,44 @@ def default_executor(workers: int | None = None) -> ProcessPoolExecutor:
     which may hold threads (BLAS, a Dask client, a progress bar) that a fork would copy mid-flight. Each worker
     limits its BLAS to one thread (:func:`single_thread_blas`), as Dask's workers do: with a process per core,
     BLAS threads only compete (measured on 2 cores, 100 bars: 2 workers with 2 BLAS threads each ran at 0.54× the
-    serial throughput, with one thread each at about 2×).
+    serial throughput, with one thread each at about 2×), and ignores Ctrl-C (:func:`_worker_setup`).
     """
     _check_workers(workers)
     method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
     return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context(method),
-                               initializer=single_thread_blas)
+                               initializer=_worker_setup)
+
+
+def _worker_setup() -> None:
+    """A default pool's worker: one BLAS thread (:func:`single_thread_blas`), and Ctrl-C left to the parent, which
+    stops the workers itself (a worker interrupted too would print its own traceback)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    single_thread_blas()
+
+
+@contextlib.contextmanager
+def _main_unseen() -> Iterator[None]:
+    """Start processes that do not import the caller's script.
+
+    A spawned or fork-server worker imports the parent's ``__main__`` from its file before it runs anything, so a
+    script without an ``if __name__ == "__main__":`` guard runs again in every worker, where its call of
+    :func:`solve_many` may not start processes: the pool breaks and every scene came back an executor error. The
+    default pool's tasks are this module's functions on guidewire's values, which never need the script, so while
+    its workers start, ``__main__`` shows no file or module name (what :mod:`multiprocessing` reads to import it
+    there) and the workers import only what the tasks name.
+    """
+    main = sys.modules.get("__main__")
+    if main is None:
+        yield
+        return
+    saved = {name: main.__dict__[name] for name in ("__file__", "__spec__") if name in main.__dict__}
+    try:
+        main.__dict__.pop("__file__", None)
+        main.__dict__["__spec__"] = None
+        yield
+    finally:
+        main.__dict__.pop("__spec__", None)
+        main.__dict__.update(saved)
 
 
 def single_thread_blas() -> bool:
@@ -218,14 +253,19 @@ def run_tasks(tasks: Sequence[tuple[Callable[..., Any], tuple[Any, ...], range]]
     bar = _progress_bar(len(scenes), progress)
     futures: dict[Future[Any], range] = {}
     try:
-        for fn, args, indices in tasks:
-            futures[pool.submit(fn, *args)] = indices
+        with _main_unseen() if own else contextlib.nullcontext():  # (the workers start during the submits)
+            for fn, args, indices in tasks:
+                futures[pool.submit(fn, *args)] = indices
         for future in as_completed(futures):
             indices = futures.pop(future)
             outcome = _outcome(future, [scenes[i] for i in indices])
             if bar is not None:
                 bar.update(len(indices))
             yield from zip(indices, outcome, strict=True)
+    except BaseException:  # (KeyboardInterrupt, SIGTERM made one by the CLI, an error of the caller's)
+        if own:
+            _terminate(pool)
+        raise
     finally:
         for future in futures:
             future.cancel()
@@ -233,6 +273,18 @@ def run_tasks(tasks: Sequence[tuple[Callable[..., Any], tuple[Any, ...], range]]
             bar.close()
         if own:
             pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _terminate(pool: Executor) -> None:
+    """Stop a default pool's workers now, mid-scene, and reap them: an interrupted batch leaves no process behind
+    (its fork server and resource tracker end with this process, when their pipes close)."""
+    workers = list((getattr(pool, "_processes", None) or {}).values())  # (shutdown forgets them: read first)
+    pool.shutdown(wait=False, cancel_futures=True)
+    for worker in workers:
+        if worker.is_alive():
+            worker.terminate()
+    for worker in workers:
+        worker.join(timeout=5.0)
 
 
 def _outcome(future: Future[Any], scenes: list[Scene]) -> list[BatchResult]:

@@ -15,10 +15,11 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import signal
 import sys
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn
 
 import numpy as np
 
@@ -279,6 +280,15 @@ def _paper(args: argparse.Namespace) -> int:
     return EXIT_NOT_CONVERGED if failures(rows) else EXIT_OK
 
 
+#: Exit status of a batch stopped by SIGINT or SIGTERM (the shell's 128 + SIGINT).
+EXIT_INTERRUPTED = 130
+
+
+def _interrupt(signum: int, frame: Any) -> None:
+    """SIGTERM as Ctrl-C: the batch stops its workers, keeps what it wrote and says how to resume."""
+    raise KeyboardInterrupt
+
+
 def _batch(args: argparse.Namespace) -> int:
     """``batch``: every scene runs (a failure is a record), so the status is 0 unless the arguments are bad."""
     from .batch import solve_files
@@ -300,13 +310,24 @@ def _batch(args: argparse.Namespace) -> int:
             raise BadInput(f"--scheduler {args.scheduler}: cannot connect ({exc})") from None
     options = {"bars": args.bars, "scheme": args.scheme, "qp_solver": _qp_solver(args), "tol": args.tol,
                "max_iter": args.max_iter}
+    written = [0]
+
+    def count(_: dict[str, Any]) -> None:
+        written[0] += 1
+
+    previous = signal.signal(signal.SIGTERM, _interrupt)
     try:
         summary = solve_files(args.scenes, args.out, executor=None if client is None else client.get_executor(),
                               workers=args.workers, progress=not args.no_progress, chunksize=args.chunksize,
-                              **options)
+                              on_result=count, **options)
     except (ValueError, TypeError) as exc:
         raise BadInput(str(exc)) from None
+    except KeyboardInterrupt:
+        print(f"interrupted: {written[0]} scenes of this run are in {args.out}; run the same command again to solve "
+              "the rest (the scenes already there are skipped)", file=sys.stderr)
+        return EXIT_INTERRUPTED
     finally:
+        signal.signal(signal.SIGTERM, previous)
         if client is not None:
             client.close()
     print(f"{args.out}: {summary}")

@@ -1,0 +1,96 @@
+"""A batch stops cleanly: SIGTERM and Ctrl-C leave no process behind, keep what was written and say how to resume;
+a script without a ``__main__`` guard still gets its process pool."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from importlib import resources
+from pathlib import Path
+
+import pytest
+
+from guidewire.export import read_records
+
+BEND = Path(str(resources.files("guidewire") / "scenes" / "vessels" / "bend.toml"))
+
+
+def _descendants(pid: int) -> set[int]:
+    """Every process below ``pid`` (from /proc)."""
+    children: dict[int, list[int]] = {}
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                stat = (entry / "stat").read_text()
+            except OSError:
+                continue
+            parent = int(stat[stat.rindex(")") + 2:].split()[1])
+            children.setdefault(parent, []).append(int(entry.name))
+    out, todo = set(), [pid]
+    while todo:
+        for child in children.get(todo.pop(), []):
+            out.add(child)
+            todo.append(child)
+    return out
+
+
+def _alive(pid: int) -> bool:
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return False
+    return stat[stat.rindex(")") + 2] != "Z"
+
+
+@pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads the process tree from /proc")
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
+def test_a_signalled_batch_leaves_no_process_and_resumes(tmp_path, sig):
+    scenes = tmp_path / "scenes"
+    scenes.mkdir()
+    count = 200  # (signalled at the first record written: the rest is still to do on any machine)
+    for i in range(count):
+        (scenes / f"bend{i:03d}.toml").write_text(BEND.read_text())
+    out = tmp_path / "out.jsonl"
+    command = [sys.executable, "-m", "guidewire", "batch", str(scenes), "--out", str(out), "--workers", "2",
+               "--no-progress"]
+    proc = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120.0
+    while not (out.exists() and out.stat().st_size) and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.02)
+    below = _descendants(proc.pid)
+    assert len(below) >= 3, "the pool never started"  # two workers and the fork server (or their spawn parents)
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err and "run the same command again" in err, err
+    deadline = time.monotonic() + 10.0
+    while any(_alive(p) for p in below) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not [p for p in below if _alive(p)], "processes left behind"
+    # resumed: every scene once in the reader, the finished ones not solved again
+    kept = len(read_records(out))
+    assert 0 < kept < count
+    done = subprocess.run(command, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    records = read_records(out)
+    assert sorted(Path(r["file"]).name for r in records) == sorted(f"bend{i:03d}.toml" for i in range(count))
+    assert f"{kept} already in the output" in done.stdout
+
+
+def test_a_script_without_a_main_guard_gets_its_process_pool(tmp_path):
+    """The workers do not run the caller's script again (which, unguarded, broke the pool: every scene an
+    executor error)."""
+    script = tmp_path / "unguarded.py"
+    script.write_text(
+        "import guidewire\n"
+        "scenes = [s.with_bars(20) for s in list(guidewire.paper_scenes().values())[:4]]\n"
+        "results = guidewire.solve_many(scenes, workers=2, progress=False)\n"
+        "print('RESULTS', [type(r).__name__ for r in results], flush=True)\n")
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=180,
+                          cwd=tmp_path, env={**os.environ, "PYTHONWARNINGS": "error"})
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert done.stdout.count("RESULTS") == 1  # (printed by this process only, never by a worker)
+    assert "RESULTS ['Solution', 'Solution', 'Solution', 'Solution']" in done.stdout, done.stdout + done.stderr

@@ -141,6 +141,9 @@ def build_parser() -> argparse.ArgumentParser:
     ins.add_argument("--plot", type=_figure_path, help="write the last shape and force/energy against length")
     ins.add_argument("--gif", type=_gif_path, help="write an animation of the insertion (.gif)")
     _add_qp_solver(ins)
+    ins.add_argument("--yes", action="store_true", help=f"run even more than {MAX_STEPS} steps or a JSON file "
+                     f"over {MAX_JSON_MB} MB")
+    ins.add_argument("--quiet", action="store_true", help="no line per step (flagged steps are still printed)")
     ins.add_argument("--max-iter", type=_positive_int, default=500, help="SQP iteration limit per step")
     ins.add_argument("--tol", type=float, default=1e-8, help="SQP tolerance")
     paper = sub.add_parser("paper", help="reproduce every scene of the paper (figures + table)")
@@ -198,39 +201,83 @@ def _load(path: Path) -> Scene:
         raise BadInput(str(exc)) from None
 
 
+#: ``insert`` asks for ``--yes`` above this many steps (a --step in µm by mistake runs for minutes)...
+MAX_STEPS = 10_000
+
+#: ...or when its JSON would exceed this many megabytes.
+MAX_JSON_MB = 100
+
+#: Bytes of one node in an insertion's JSON (two coordinates printed at full precision, indent 1).
+JSON_BYTES_PER_NODE = 60
+
+
+def _check_output_dir(path: Path | None, flag: str) -> None:
+    """An output whose directory does not exist is a mistake (a typo, or a path meant elsewhere): said before any
+    work rather than creating directories the user did not ask for."""
+    if path is not None and not path.parent.is_dir():
+        raise BadInput(f"{flag} {path}: the directory {path.parent} does not exist; create it or give another path")
+
+
+def _check_size(args: argparse.Namespace, lengths: np.ndarray, bars_per_mm: float) -> None:
+    """Refuse, unless ``--yes``, an insertion of more than :data:`MAX_STEPS` steps or whose JSON would exceed
+    :data:`MAX_JSON_MB` megabytes (estimated from the nodes of every step)."""
+    if args.yes:
+        return
+    if lengths.size > MAX_STEPS:
+        raise BadInput(f"--step {args.step:g} mm makes {lengths.size} steps (more than {MAX_STEPS}); give a larger "
+                       "--step (it is in mm), or --yes to run them all")
+    if args.json is not None:
+        megabytes = JSON_BYTES_PER_NODE * float(np.sum(lengths * bars_per_mm + 1.0)) / 1e6
+        if megabytes > MAX_JSON_MB:
+            raise BadInput(f"--json would hold about {megabytes:.0f} MB ({lengths.size} steps of up to "
+                           f"{lengths[-1] * bars_per_mm:.0f} bars); give a larger --step, fewer bars per mm, or "
+                           "--yes to write it")
+
+
 def _insert(args: argparse.Namespace) -> int:
-    from .insertion import insert, step_record
+    from .insertion import insert, step_flags, step_record
 
     scene = _load(args.scene)
     first = scene.wire.length if args.start is None else args.start
     if args.to < first:
         raise BadInput(f"--to {args.to:g} is shorter than the first inserted length {first:g} mm")
     lengths = np.arange(first, args.to + 0.5 * args.step, args.step)
+    for flag in ("json", "plot", "gif"):
+        _check_output_dir(getattr(args, flag), f"--{flag}")
+    _check_size(args, lengths, scene.wire.bars / scene.wire.length)
     start_scene = scene.with_wire(length=first, bars=max(1, round(first * scene.wire.bars / scene.wire.length)))
-    try:
-        out = insert(start_scene, lengths, qp_solver=_qp_solver(args), tol=args.tol, max_iter=args.max_iter)
-    except (ValueError, TypeError) as exc:
-        raise BadInput(f"{args.scene}: {exc}") from None
-    for sol, how in zip(out.steps, out.started, strict=True):
+    flagged = [0]
+
+    def report(sol: Any, how: str, index: int, total: int) -> None:
+        flags = step_flags(sol, how)
+        flagged[0] += bool(flags)
+        if args.quiet and not flags:
+            return
         rec = step_record(sol)
         force = rec["entrance_force_n"]
-        print(f"L = {rec['inserted_length']:8.3f} mm  {'ok' if sol.success else 'FAILED':6s}  E = {sol.energy:10.5g} "
-              f"N·mm  contacts {len(rec['contacts']):3d}  push {'-' if force is None else f'{force:+.4g} N':>11s}  "
-              f"{sol.iterations:3d} it  {1e3 * sol.solve_time_s:7.1f} ms  ({how})"
-              + ("" if sol.success else f"  {sol.message}"))
+        line = (f"[{index + 1}/{total}] L = {rec['inserted_length']:8.3f} mm  {'ok' if sol.success else 'FAILED':6s}  "
+                f"E = {sol.energy:10.5g} N·mm  contacts {len(rec['contacts']):3d}  push "
+                f"{'-' if force is None else f'{force:+.4g} N':>11s}  {sol.iterations:3d} it  "
+                f"{1e3 * sol.solve_time_s:7.1f} ms  ({how})")
+        print(line + "".join(f"\n    ! {flag}" for flag in flags), flush=True)
+
+    try:
+        out = insert(start_scene, lengths, qp_solver=_qp_solver(args), tol=args.tol, max_iter=args.max_iter,
+                     progress=report)
+    except (ValueError, TypeError) as exc:
+        raise BadInput(f"{args.scene}: {exc}") from None
+    if flagged[0]:
+        print(f"{flagged[0]} of {len(out.steps)} steps flagged (lines marked !)")
     if out.error is not None:
         print(f"stopped: {out.error}", file=sys.stderr)
     if args.json is not None:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps(out.to_dict(), indent=1))
     if out.steps and (args.plot is not None or args.gif is not None):
         from .plot_insertion import plot_insertion, save_animation
 
         if args.plot is not None:
-            args.plot.parent.mkdir(parents=True, exist_ok=True)
             plot_insertion(out).savefig(args.plot, dpi=130)
         if args.gif is not None:
-            args.gif.parent.mkdir(parents=True, exist_ok=True)
             save_animation(out, args.gif)
     return EXIT_OK if out.complete and all(s.success for s in out.steps) else EXIT_NOT_CONVERGED
 
@@ -239,6 +286,8 @@ def _solve(args: argparse.Namespace) -> int:
     from .solve import solve
 
     scene = _load(args.scene)
+    for flag in ("json", "plot"):
+        _check_output_dir(getattr(args, flag), f"--{flag}")
     try:
         sol = solve(scene, scheme=args.scheme, bars=args.bars, qp_solver=_qp_solver(args), tol=args.tol,
                     max_iter=args.max_iter, verbose=args.verbose, tol_mm=args.tol_mm,
@@ -250,7 +299,6 @@ def _solve(args: argparse.Namespace) -> int:
         print(f"estimated mean node error {sol.error_estimate_mm:.3g} mm with {sol.n_bars} bars "
               f"({sol.solve_time_s * 1e3:.1f} ms in all)")
     if args.json is not None:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps(sol.to_dict(), indent=1))
     if args.reference and args.plot is None:
         print("note: --reference only draws into --plot's figure; no figure was asked for", file=sys.stderr)
@@ -266,7 +314,6 @@ def _solve(args: argparse.Namespace) -> int:
                 reason = why.removeprefix("no reference: ")
                 print(f"note: --reference: no continuum reference drawn for scene {sol.scene.name!r}: {reason}",
                       file=sys.stderr)
-        args.plot.parent.mkdir(parents=True, exist_ok=True)
         plot_solution(sol, reference=reference).savefig(args.plot, dpi=130)
     return EXIT_OK if sol.success else EXIT_NOT_CONVERGED
 

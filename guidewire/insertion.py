@@ -11,7 +11,7 @@ push), the step is solved again from the default start (cold), and the step says
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -122,7 +122,40 @@ def _advanced_multipliers(prev: Solution, bars: int) -> Solution:
 PREDICTORS = ("track", "push")
 
 
-def insert(scene: Scene, lengths: Iterable[float], *, predictor: str = "track", **options: Any) -> Insertion:
+#: Largest bending strain (stress over Young's modulus) a step passes without a flag (:func:`step_flags`): the
+#: recoverable strain of superelastic nitinol, about 8 %; a steel core yields near 1 %, so for it the flag is late.
+STRAIN_LIMIT = 0.08
+
+#: Entrance push (N) above which a step is flagged: an interventionalist's hand pushes a guidewire with a few
+#: newtons at most (forces of 0.1-2 N are reported in the catheter-lab literature); more means the wire is jammed.
+PUSH_LIMIT_N = 5.0
+
+
+def step_flags(sol: Solution, how: str) -> list[str]:
+    """What a user should notice about one insertion step: a failed solve, a cold re-solve after a failed warm
+    one, the tip past the vessel's far end, a push above :data:`PUSH_LIMIT_N`, a bending strain above
+    :data:`STRAIN_LIMIT` (with the stress in MPa)."""
+    flags = [] if sol.success else [f"FAILED: {sol.message}"]
+    if how == "warm, then cold":
+        flags.append("cold re-solve (the warm start failed)")
+    vessel = sol.scene.vessel
+    if vessel is not None and bool(vessel.past_end(sol.nodes[-1:])[0]):
+        flags.append("tip past the vessel's far end")
+    push = sol.entrance_force() if sol.success else None
+    if push is not None and push > PUSH_LIMIT_N:
+        flags.append(f"push {push:.3g} N above {PUSH_LIMIT_N:g} N: the wire is jammed")
+    if sol.success and sol.bending_stress_mpa.size:
+        strains = sol.bending_stress_mpa / sol.scene.wire.properties_at(sol.s).youngs_modulus
+        k = int(np.argmax(strains))
+        strain = float(strains[k])
+        if strain > STRAIN_LIMIT:
+            flags.append(f"bending stress {sol.bending_stress_mpa[k]:.4g} MPa at s = {sol.s[k]:.4g} mm (strain "
+                         f"{100 * strain:.3g} % > {100 * STRAIN_LIMIT:g} %): the wire would kink")
+    return flags
+
+
+def insert(scene: Scene, lengths: Iterable[float], *, predictor: str = "track",
+           progress: Callable[[Solution, str, int, int], None] | None = None, **options: Any) -> Insertion:
     """Advance the wire of ``scene`` through the inserted ``lengths`` (mm, increasing), one quasi-static solve each.
 
     Parameters
@@ -135,6 +168,9 @@ def insert(scene: Scene, lengths: Iterable[float], *, predictor: str = "track", 
         How a step starts from the previous one: ``"track"`` (default) — the wire slides along its previous shape
         and the new length continues the tip; ``"push"`` — the previous shape moves with the material, pushed in by
         ``ΔL``, the new length along the centreline at the entrance.
+    progress : callable, optional
+        ``progress(solution, how, index, total)`` after each step (``how``: ``"cold"``, ``"warm"`` or ``"warm, then
+        cold"``), e.g. to print it as it goes (the command line does, with :func:`step_flags`).
     **options
         Passed to :func:`guidewire.solve` (``hessian``, ``qp_solver``, ``tol``, ``max_iter``, ...); not ``bars``,
         ``initial_angles`` or ``multipliers0`` (the insertion sets them); ``reuse=None`` builds every step's program
@@ -188,4 +224,6 @@ def insert(scene: Scene, lengths: Iterable[float], *, predictor: str = "track", 
             return Insertion(values, steps, started, f"step at {length:g} mm: {exc}")
         steps.append(sol)
         started.append(how)
+        if progress is not None:
+            progress(sol, how, len(steps) - 1, len(values))
     return Insertion(values, steps, started)

@@ -74,8 +74,20 @@ def test_cli_insert(tmp_path):
     run = subprocess.run([sys.executable, "-m", "guidewire", "insert", scene, "--from", "40", "--to", "50",
                           "--step", "5", "--json", str(tmp_path / "ins.json")], capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
-    assert len(run.stdout.strip().splitlines()) == 3
+    steps = [line for line in run.stdout.splitlines() if line.startswith("[")]
+    assert [line.split("]")[0] for line in steps] == ["[1/3", "[2/3", "[3/3"]  # a line per step, as it goes
+    flags = [line for line in run.stdout.splitlines() if line.lstrip().startswith("!")]
+    assert all("cold re-solve" in f or "FAILED" in f or "past" in f or "push" in f or "strain" in f for f in flags)
     assert len(json.loads((tmp_path / "ins.json").read_text())["steps"]) == 3
+    # outputs and sizes are checked before any work
+    missing = subprocess.run([sys.executable, "-m", "guidewire", "insert", scene, "--from", "40", "--to", "50",
+                              "--step", "5", "--json",
+                              str(tmp_path / "no" / "ins.json")], capture_output=True, text=True)
+    assert missing.returncode == 2 and "does not exist" in missing.stderr and not (tmp_path / "no").exists()
+    tiny = subprocess.run([sys.executable, "-m", "guidewire", "insert", scene, "--from", "40", "--to", "50",
+                           "--step", "0.0001"],
+                          capture_output=True, text=True, timeout=60)
+    assert tiny.returncode == 2 and "--yes" in tiny.stderr and "steps" in tiny.stderr
     bad = subprocess.run([sys.executable, "-m", "guidewire", "insert", scene, "--to", "50", "--step", "0"],
                          capture_output=True, text=True)
     assert bad.returncode == 2 and "positive length" in bad.stderr
@@ -103,3 +115,23 @@ def test_insertion_with_a_shared_model_reuse_matches_building_every_step_anew():
         assert a.max_violation <= 1e-8  # every node inside the lumen by the wire's radius (checked at every node)
         assert np.all(scene.vessel.clearance(a.nodes[1:]).distance >= 0.5 * scene.wire.diameter - 1e-6)
         assert crossing_bars(a.nodes) is None
+
+
+def test_step_flags_name_what_a_user_must_notice(monkeypatch):
+    """A step that failed, needed a cold re-solve or bends beyond the strain limit is flagged; a quiet step is not.
+    Fig. 6b bends its wire to a strain of 1.04 %: quiet at the 8 % limit, flagged at its node under a 0.5 % one."""
+    from dataclasses import replace
+
+    import guidewire
+    from guidewire import insertion
+    from guidewire.insertion import step_flags
+
+    sol = guidewire.solve(guidewire.paper_scenes()["fig6b"])
+    assert sol.success and step_flags(sol, "warm") == []
+    assert any("cold re-solve" in f for f in step_flags(sol, "warm, then cold"))
+    failed = replace(sol, success=False, message="The line search failed.")
+    assert step_flags(failed, "warm")[0].startswith("FAILED: The line search failed.")
+    monkeypatch.setattr(insertion, "STRAIN_LIMIT", 0.005)
+    kink = [f for f in step_flags(sol, "warm") if "would kink" in f]
+    k = int(np.argmax(sol.bending_stress_mpa))
+    assert len(kink) == 1 and f"s = {sol.s[k]:.4g} mm" in kink[0]

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from .insertion import Insertion
-from .plot import _matplotlib, draw_contact_forces, plot_panel
+from .plot import FAILURE_COLOR, STRESS_CMAP, _matplotlib, draw_contact_forces, plot_panel
 
 
 def plot_insertion(insertion: Insertion) -> Any:
@@ -45,27 +45,72 @@ def plot_insertion(insertion: Insertion) -> Any:
     return fig
 
 
-def save_animation(insertion: Insertion, path: str | Path, *, fps: int = 10) -> None:
-    """Write every step as one frame of an animation (a ``.gif`` through Pillow), on the axes of the last step."""
-    _matplotlib()
-    from matplotlib.animation import FuncAnimation, PillowWriter
+#: The stress colour scale of an animation spans at least this (MPa).
+STRESS_FLOOR_MPA = 1.0
+
+
+def save_animation(insertion: Insertion, path: str | Path, *, fps: int = 10, dpi: int = 80) -> None:
+    """Write every step as one frame of an animated ``.gif`` (through Pillow, which matplotlib installs).
+
+    The frame is the whole vessel (every branch) and every shape of the insertion, rendered once; each step only
+    draws the wire over that background, its stress colours on one scale fixed for the whole insertion (the colour
+    bar's), its contact-force arrows and its length. A failed step is drawn dashed in the failure colour, without
+    stresses. All frames share the first one's palette.
+    """
+    mpl = _matplotlib()
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.collections import LineCollection
     from matplotlib.figure import Figure
+    from PIL import Image
 
     steps = insertion.steps
-    fig = Figure(figsize=(6.0, 5.0), layout="constrained")
+    last = steps[-1]
+    fig = Figure(figsize=(6.0, 5.0), dpi=dpi, layout="constrained")
+    canvas = FigureCanvasAgg(fig)
     ax = fig.add_subplot()
-    everything = np.vstack([s.nodes for s in steps])
+    plot_panel(ax, last.scene, [])  # the vessel, walls and supports
+    points = [s.nodes for s in steps]
+    if last.scene.vessel is not None:
+        points += last.scene.vessel.wall_lines()
+    everything = np.vstack(points)
     lo, hi = everything.min(axis=0), everything.max(axis=0)
-    pad = 0.08 * max(float(np.max(hi - lo)), 1.0)
-
-    def frame(i: int) -> list[Any]:
-        ax.clear()
-        sol = steps[i]
-        plot_panel(ax, sol.scene, [sol], title=f"inserted {sol.scene.wire.length:g} mm"
-                   + ("" if sol.success else " (failed)"))
+    pad = 0.05 * max(float(np.max(hi - lo)), 1.0)
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    # (at least STRESS_FLOOR_MPA: a stress-free wire is one colour, not rounding noise stretched over the scale)
+    top = max([float(s.bending_stress_mpa.max()) for s in steps if s.success] + [STRESS_FLOOR_MPA])
+    width, height = hi - lo + 2 * pad
+    fig.set_size_inches(6.0, float(np.clip(4.2 * height / max(width, 1e-9) + 1.0, 3.0, 9.0)))
+    wire = LineCollection([], cmap=STRESS_CMAP, norm=mpl.colors.Normalize(0.0, top), linewidths=3.0, zorder=2,
+                          animated=True)
+    ax.add_collection(wire)
+    fig.colorbar(wire, ax=ax, label="bending stress σ (MPa)", shrink=0.8)
+    label = ax.text(0.03, 0.97, "", transform=ax.transAxes, ha="left", va="top", fontsize=9, animated=True,
+                    bbox={"facecolor": "white", "edgecolor": "0.7", "alpha": 0.9})
+    canvas.draw()  # (the layout and the background, once)
+    fig.set_layout_engine("none")
+    background = canvas.copy_from_bbox(fig.bbox)
+    frames = []
+    for sol in steps:
+        canvas.restore_region(background)
+        wire.set_segments(np.stack((sol.nodes[:-1], sol.nodes[1:]), axis=1))
+        if sol.success:
+            wire.set_array(np.maximum(sol.bending_stress_mpa[:-1], sol.bending_stress_mpa[1:]))
+            wire.set_linestyle("-")
+        else:
+            wire.set_array(None)
+            wire.set_color(FAILURE_COLOR)
+            wire.set_linestyle("--")
+        ax.draw_artist(wire)
+        before = len(ax.texts)
         draw_contact_forces(ax, sol)
-        ax.set_xlim(lo[0] - pad, hi[0] + pad)
-        ax.set_ylim(lo[1] - pad, hi[1] + pad)
-        return []
-
-    FuncAnimation(fig, frame, frames=len(steps), blit=False).save(str(path), writer=PillowWriter(fps=fps))
+        for arrow in ax.texts[before:]:
+            ax.draw_artist(arrow)
+            arrow.remove()
+        label.set_text(f"inserted {sol.scene.wire.length:g} mm" + ("" if sol.success else " (FAILED)"))
+        label.set_color("k" if sol.success else FAILURE_COLOR)
+        ax.draw_artist(label)
+        frames.append(Image.fromarray(np.asarray(canvas.buffer_rgba())[..., :3].copy()))
+    first = frames[0].quantize(colors=255)
+    rest = [f.quantize(palette=first, dither=Image.Dither.NONE) for f in frames[1:]]
+    first.save(str(path), save_all=True, append_images=rest, duration=round(1000 / fps), loop=0)

@@ -40,3 +40,36 @@ def test_a_failed_solve_is_marked_in_title_colour_and_message(solved):
     assert any("rejected" in t.get_text() for t in ax.texts)
     assert any(mcolors.same_color(c.get_edgecolor()[0], FAILURE_COLOR) for c in ax.collections
                if len(c.get_edgecolor()))
+
+
+def test_an_insertion_gif_renders_its_background_once(tmp_path):
+    """100 steps through the aortic arch: one frame per step, all frames the same size, the wire moving; the whole
+    animation costs less than a third of re-rendering the full figure for every frame (the old way, 10 s here;
+    measured in the same run, so the bound holds on any machine), and under 10 s outright."""
+    import io
+    import time
+
+    import numpy as np
+    from PIL import Image
+
+    from guidewire.plot_insertion import save_animation
+
+    scene = guidewire.load_scene(str(VESSELS / "aortic_arch.toml"))
+    ins = guidewire.insert(scene.with_wire(length=20.0, bars=20), np.linspace(20.0, 120.0, 100))
+    path = tmp_path / "a.gif"
+    started = time.perf_counter()
+    save_animation(ins, path)
+    elapsed = time.perf_counter() - started
+    full = plot_solution(ins.steps[-1])
+    started = time.perf_counter()
+    for _ in range(3):
+        full.savefig(io.BytesIO(), format="png", dpi=80)
+    per_full_frame = (time.perf_counter() - started) / 3
+    assert elapsed < min(100 * per_full_frame / 3, 10.0), (elapsed, per_full_frame)
+    with Image.open(path) as gif:
+        assert gif.n_frames == 100
+        gif.seek(10)
+        early = np.asarray(gif.convert("RGB"))
+        gif.seek(90)
+        late = np.asarray(gif.convert("RGB"))
+    assert early.shape == late.shape and np.any(early != late)

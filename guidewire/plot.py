@@ -52,14 +52,19 @@ def _wall_segment(normal: tuple[float, float], offset: float, box: np.ndarray) -
     return foot + np.outer([t0 - radius, t0 + radius], direction)
 
 
-def draw_scene(ax: Axes, scene: Scene, *, arrow_length: float | None = None, color: str = "k") -> None:
-    """Draw the base, the contacts (with tangent arrows) and the walls of ``scene`` on ``ax``."""
+def draw_scene(ax: Axes, scene: Scene, *, arrow_length: float | None = None, color: str = "k",
+               labels: bool = True) -> None:
+    """Draw the base and the contacts of ``scene`` on ``ax``, with tangent arrows and (``labels``) their names."""
     length = arrow_length if arrow_length is not None else 0.08 * scene.wire.length
     poses = [(scene.base.name, scene.base.point, scene.base.angle)]
     poses += [(c.label(i), c.point, c.angle) for i, c in enumerate(scene.contacts) if c.point is not None]
     for name, point, angle in poses:
         ax.plot(*point, "o", color=color, markersize=4, zorder=4)
-        ax.annotate(name, point, textcoords="offset points", xytext=(4, -10), fontsize=8, color=color)
+        if labels:  # (on the far side from the tangent arrow, so the arrow never hides the name)
+            away = (4.0, -10.0) if angle is None else (-11.0 * math.cos(angle), -11.0 * math.sin(angle))
+            ax.annotate(name, point, textcoords="offset points", xytext=away, fontsize=8, color=color,
+                        ha="center" if angle is not None else "left", va="center", zorder=5,
+                        bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.7, "pad": 0.5})
         if angle is not None:
             ax.annotate(
                 "", xy=(point[0] + length * math.cos(angle), point[1] + length * math.sin(angle)), xytext=point,
@@ -128,6 +133,22 @@ def _box(points: np.ndarray) -> np.ndarray:
     return np.array([lo - pad, hi + pad])
 
 
+def _short_name(scene: Scene) -> str:
+    """What tells overlaid scenes of one figure apart: the last prescribed tangent angle (``θ_B = −π/4``, in
+    quarters of π where it is one), else the scene's name."""
+    posed = [(c.label(i), c.angle) for i, c in enumerate(scene.contacts) if c.angle is not None]
+    if not posed:
+        return scene.name or ""
+    name, angle = posed[-1]
+    quarters = angle / (math.pi / 4)
+    symbol = rf"$\theta_{{{name}}}$"
+    if abs(quarters - round(quarters)) > 1e-9:
+        return f"{symbol} = {angle:.4g}"
+    k = int(round(quarters))
+    text = {0: "0", 1: "π/4", 2: "π/2", 3: "3π/4", 4: "π"}.get(abs(k), f"{abs(k)}π/4")
+    return f"{symbol} = {'−' if k < 0 else ''}{text}"
+
+
 def plot_panel(
     ax: Axes,
     scene: Scene,
@@ -153,7 +174,12 @@ def plot_panel(
     for i, sol in enumerate(solutions):
         ref = references[i] if references is not None else None
         last = draw_solution(ax, sol, norm=norm, reference=ref)
-        draw_scene(ax, sol.scene)
+        draw_scene(ax, sol.scene, labels=i == 0)
+        if len(solutions) > 1:  # overlaid shapes (Figs. 4 and 5): each named along itself, in place of a legend
+            where = int((len(sol.nodes) - 1) * (0.2 + 0.6 * i / (len(solutions) - 1)))
+            ax.annotate(_short_name(sol.scene), sol.nodes[where], textcoords="offset points",
+                        xytext=(5, 5), fontsize=7, color="0.15", zorder=5,
+                        bbox={"facecolor": "white", "edgecolor": "0.8", "alpha": 0.8, "pad": 0.8})
     if not solutions:
         draw_scene(ax, scene)
     if message:

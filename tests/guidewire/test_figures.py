@@ -73,3 +73,17 @@ def test_an_insertion_gif_renders_its_background_once(tmp_path):
         gif.seek(90)
         late = np.asarray(gif.convert("RGB"))
     assert early.shape == late.shape and np.any(early != late)
+
+
+def test_overlaid_shapes_are_named_and_the_pose_labels_drawn_once():
+    """Fig. 4 draws five shapes in one panel: each carries its θ_B, and A and B are labelled once each."""
+    from guidewire.plot import plot_group
+
+    group = guidewire.paper_groups()["fig4"]
+    sols = [guidewire.solve(scene, bars=30) for scene in group]
+    ax = plot_group([(group[0], sols, None, "Fig. 4", "")]).axes[0]
+    texts = [t.get_text() for t in ax.texts]
+    names = sorted(t for t in texts if t.startswith(r"$\theta_{B}$"))
+    assert names == sorted([r"$\theta_{B}$ = −π/2", r"$\theta_{B}$ = −π/4", r"$\theta_{B}$ = 0",
+                            r"$\theta_{B}$ = π/4", r"$\theta_{B}$ = π/2"])
+    assert texts.count("A") == 1 and texts.count("B") == 1

@@ -302,35 +302,43 @@ def solve_subproblem(
         Price ``rho`` of a unit of slack; solves the elastic QP when given.
     """
     n = g.size
-    has_box = bool(np.isfinite(box_lo).any() or np.isfinite(box_hi).any())
     scale = max(1.0, inf_norm(g))
     if elastic_penalty is None:
-        E, e, G, h, where = _stack_rows([nonlinear, linear], n)
-        if not has_box and G.shape[0] == 0:
-            step = _checked(B, g, E, e, scale, equality_kkt(B, g, E, e)) if sp.issparse(B) else _equality_qp(
-                B, g, E, e, scale)
-            if step is not None:
-                d, y = step
-                return QPStep(d=d, lam_nl=_row_multipliers(nonlinear.rows, y, np.zeros(0), where[0]),
-                              lam_lin=_row_multipliers(linear.rows, y, np.zeros(0), where[1]), z=np.zeros(n),
-                              found=True, elastic=False, slack=0.0, status="kkt")
-        if needs_convexification(B):
-            return _failed(n, nonlinear, linear, "indefinite")
-        sol, used = _solve(backends, B, g, G, h, E, e, box_lo if has_box else None, box_hi if has_box else None,
-                           initvals, scale)
-        if sol is None:
-            return _failed(n, nonlinear, linear, used)
-        y = np.zeros(0) if sol.y is None else np.asarray(sol.y, dtype=float).ravel()
-        z = np.zeros(0) if sol.z is None else np.asarray(sol.z, dtype=float).ravel()
-        zb = -np.asarray(sol.z_box, dtype=float) if (has_box and sol.z_box is not None) else np.zeros(n)
-        return QPStep(
-            d=sol.x, lam_nl=_row_multipliers(nonlinear.rows, y, z, where[0]),
-            lam_lin=_row_multipliers(linear.rows, y, z, where[1]), z=zb, found=True, elastic=False, slack=0.0,
-            status="optimal" if used == backends[0][0] else f"opt[{used}]",
-        )
+        return _solve_plain(B, g, nonlinear, linear, box_lo, box_hi, backends, initvals, scale)
     if needs_convexification(B):
         return _failed(n, nonlinear, linear, "indefinite")
     return _solve_elastic(B, g, nonlinear, linear, box_lo, box_hi, backends, initvals, elastic_penalty, scale)
+
+
+def _solve_plain(B: Any, g: Array, nonlinear: LinearisedRows, linear: LinearisedRows, box_lo: Array, box_hi: Array,
+                 backends: Backends, initvals: Array | None, scale: float) -> QPStep:
+    """The QP itself (not elastic): an equality-only one by its KKT system directly (:func:`_equality_qp`, or the
+    structured solve of a sparse ``B``), any other, or one the direct solve refused, by the backends in turn."""
+    n = g.size
+    has_box = bool(np.isfinite(box_lo).any() or np.isfinite(box_hi).any())
+    E, e, G, h, where = _stack_rows([nonlinear, linear], n)
+    if not has_box and G.shape[0] == 0:
+        step = _checked(B, g, E, e, scale, equality_kkt(B, g, E, e)) if sp.issparse(B) else _equality_qp(
+            B, g, E, e, scale)
+        if step is not None:
+            d, y = step
+            return QPStep(d=d, lam_nl=_row_multipliers(nonlinear.rows, y, np.zeros(0), where[0]),
+                          lam_lin=_row_multipliers(linear.rows, y, np.zeros(0), where[1]), z=np.zeros(n),
+                          found=True, elastic=False, slack=0.0, status="kkt")
+    if needs_convexification(B):
+        return _failed(n, nonlinear, linear, "indefinite")
+    sol, used = _solve(backends, B, g, G, h, E, e, box_lo if has_box else None, box_hi if has_box else None,
+                       initvals, scale)
+    if sol is None:
+        return _failed(n, nonlinear, linear, used)
+    y = np.zeros(0) if sol.y is None else np.asarray(sol.y, dtype=float).ravel()
+    z = np.zeros(0) if sol.z is None else np.asarray(sol.z, dtype=float).ravel()
+    zb = -np.asarray(sol.z_box, dtype=float) if (has_box and sol.z_box is not None) else np.zeros(n)
+    return QPStep(
+        d=sol.x, lam_nl=_row_multipliers(nonlinear.rows, y, z, where[0]),
+        lam_lin=_row_multipliers(linear.rows, y, z, where[1]), z=zb, found=True, elastic=False, slack=0.0,
+        status="optimal" if used == backends[0][0] else f"opt[{used}]",
+    )
 
 
 def _equality_qp(B: Any, g: Array, E: Any, e: Array, scale: float) -> tuple[Array, Array] | None:

@@ -331,6 +331,22 @@ def _paper(args: argparse.Namespace) -> int:
 EXIT_INTERRUPTED = 130
 
 
+def _print_flagged(item: dict[str, Any]) -> None:
+    """A line on stderr, as it arrives, for each batch record that is not a converged solve (the bar counts all)."""
+    if "error" in item:
+        line = f"{item['name']}: no solution ({item.get('stage', 'solve')}): {item['error']}"
+    elif not item.get("success"):
+        line = f"{item['name']}: FAILED (status {item.get('status')}): {item.get('message', '')}"
+    else:
+        return
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        print(line, file=sys.stderr, flush=True)
+    else:
+        tqdm.write(line, file=sys.stderr)  # above the progress bar, not through it
+
+
 def _interrupt(signum: int, frame: Any) -> None:
     """SIGTERM as Ctrl-C: the batch stops its workers, keeps what it wrote and says how to resume."""
     raise KeyboardInterrupt
@@ -359,8 +375,9 @@ def _batch(args: argparse.Namespace) -> int:
                "max_iter": args.max_iter}
     written = [0]
 
-    def count(_: dict[str, Any]) -> None:
+    def count(item: dict[str, Any]) -> None:
         written[0] += 1
+        _print_flagged(item)
 
     previous = signal.signal(signal.SIGTERM, _interrupt)
     try:

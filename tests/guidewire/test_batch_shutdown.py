@@ -94,3 +94,13 @@ def test_a_script_without_a_main_guard_gets_its_process_pool(tmp_path):
     assert done.returncode == 0, done.stderr[-3000:]
     assert done.stdout.count("RESULTS") == 1  # (printed by this process only, never by a worker)
     assert "RESULTS ['Solution', 'Solution', 'Solution', 'Solution']" in done.stdout, done.stdout + done.stderr
+
+
+def test_the_batch_command_names_each_scene_without_a_solution_as_it_arrives(tmp_path):
+    """The paper's scenes: Table 5 as printed is infeasible; its line (stage and reason) is on stderr."""
+    scenes = Path(str(resources.files("guidewire") / "scenes"))
+    done = subprocess.run([sys.executable, "-m", "guidewire", "batch", str(scenes), "--out", str(tmp_path / "o.jsonl"),
+                           "--workers", "1", "--no-progress"], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    flagged = [line for line in done.stderr.splitlines() if "no solution" in line]
+    assert len(flagged) == 1 and flagged[0].startswith("table5: no solution (solve):") and "infeasible" in flagged[0]

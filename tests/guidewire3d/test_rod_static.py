@@ -1,0 +1,31 @@
+"""A planar clamped rod with a prescribed end point, rotated rigidly in 3D, gives rotated nodes and the same energy."""
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from guidewire.rod import RodEnergy
+from guidewire.rod.static import solve_clamped
+
+
+def _planar(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    lengths = np.full(n, 10.0 / n)
+    phi = np.linspace(0.05, 0.6, n)
+    x = np.vstack([np.zeros(2), np.cumsum(lengths[:, None] * np.c_[np.cos(phi), np.sin(phi)], axis=0)])
+    return lengths, np.c_[x, np.zeros(n + 1)], np.array([8.5, 3.5, 0.0])
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_rotated_planar_solve_is_rotated(seed: int) -> None:
+    n = 10
+    lengths, x0, tip = _planar(n)
+    flat = solve_clamped(RodEnergy(lengths, 1.0, 1.0, np.array([1.0, 0, 0])), x0, tip)
+    assert flat.success, flat.message
+    R = Rotation.random(random_state=seed).as_matrix()
+    rod = RodEnergy(lengths, 1.0, 1.0, R[:, 0])
+    res = solve_clamped(rod, x0 @ R.T, tip @ R.T)
+    assert res.success, res.message
+    assert abs(res.fun - flat.fun) < 1e-7 * flat.fun
+    assert np.max(np.abs(res.x.reshape(n, 3) - flat.x.reshape(n, 3) @ R.T)) < 1e-5
+    # stays in the plane of the rotated scene
+    assert np.max(np.abs(res.x.reshape(n, 3) @ R[:, 2])) < 1e-6

@@ -25,7 +25,25 @@ def test_rotated_planar_solve_is_rotated(seed: int) -> None:
     rod = RodEnergy(lengths, 1.0, 1.0, R[:, 0])
     res = solve_clamped(rod, x0 @ R.T, tip @ R.T)
     assert res.success, res.message
-    assert abs(res.fun - flat.fun) < 1e-7 * flat.fun
-    assert np.max(np.abs(res.x.reshape(n, 3) - flat.x.reshape(n, 3) @ R.T)) < 1e-5
+    assert abs(res.fun - flat.fun) < 1e-12 * flat.fun
+    assert np.max(np.abs(res.x.reshape(n, 3) - flat.x.reshape(n, 3) @ R.T)) < 1e-6
     # stays in the plane of the rotated scene
     assert np.max(np.abs(res.x.reshape(n, 3) @ R[:, 2])) < 1e-6
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_rotated_planar_solve_equals_2d_guidewire_solve(seed: int) -> None:
+    from guidewire import Base, Contact, Scene, Wire, solve
+
+    n = 10
+    wire = Wire(10.0, n)
+    planar = solve(Scene(wire, Base((0.0, 0.0), 0.0), (Contact(10.0, point=(8.5, 3.5)),)))
+    lengths, x0, tip = _planar(n)
+    R = Rotation.random(random_state=seed).as_matrix()
+    rod = RodEnergy(lengths, float(np.atleast_1d(wire.bending_stiffness)[0]), 1.0, R[:, 0])
+    res = solve_clamped(rod, x0 @ R.T, tip @ R.T)
+    assert res.success, res.message
+    # both solvers stop at a KKT residual ~1e-10: issue 29 asks energy 1e-9 relative, nodes 1e-7 mm
+    assert abs(res.fun - planar.energy) < 1e-9 * planar.energy
+    nodes = np.c_[planar.nodes[1:], np.zeros(n)] @ R.T
+    assert np.max(np.abs(res.x.reshape(n, 3) - nodes)) < 1e-7

@@ -9,10 +9,17 @@ import sqp
 from guidewire.rod.energy import FloatArray, RodEnergy
 
 
-def solve_clamped(rod: RodEnergy, x0: FloatArray, tip: FloatArray | None = None, **options: object) -> sqp.Result:
+def solve_clamped(
+    rod: RodEnergy,
+    x0: FloatArray,
+    tip: FloatArray | None = None,
+    tip_force: FloatArray | None = None,
+    **options: object,
+) -> sqp.Result:
     """Minimise the bending energy of ``rod`` over the free nodes ``x0[1:]`` with node 0 held.
 
     Rows: ``|x_{k+1} − x_k|² = l_k²`` per bar (inextensible) and, when ``tip`` is given, the last node at ``tip``.
+    A ``tip_force`` (N) adds the potential ``−F · x_tip``.
     The result's ``x`` is the flattened free nodes ``(n, 3)``; a failed solve is reported by its status.
     """
     x0 = np.asarray(x0, dtype=float)
@@ -20,6 +27,9 @@ def solve_clamped(rod: RodEnergy, x0: FloatArray, tip: FloatArray | None = None,
     if x0.shape != (n + 1, 3):
         raise ValueError(f"x0 has shape {x0.shape}; expected ({n + 1}, 3).")
     base = x0[0].copy()
+    force = np.zeros(3) if tip_force is None else np.asarray(tip_force, dtype=float)
+    if force.shape != (3,):
+        raise ValueError(f"tip_force has shape {force.shape}; expected (3,).")
 
     def nodes(z: FloatArray) -> FloatArray:
         return np.vstack([base, z.reshape(n, 3)])
@@ -42,9 +52,9 @@ def solve_clamped(rod: RodEnergy, x0: FloatArray, tip: FloatArray | None = None,
         target = np.asarray(tip, dtype=float)
         constraints.append({"type": "eq", "fun": lambda z: z[-3:] - target, "jac": lambda z: select})
     return sqp.minimize(
-        lambda z: rod.bending(nodes(z)),
+        lambda z: rod.bending(nodes(z)) - force @ z[-3:],
         x0[1:].ravel(),
-        jac=lambda z: rod.bending_gradient(nodes(z))[1:].ravel(),
+        jac=lambda z: rod.bending_gradient(nodes(z))[1:].ravel() - np.concatenate([np.zeros(3 * n - 3), force]),
         constraints=constraints,
         **options,
     )

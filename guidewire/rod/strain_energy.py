@@ -1,0 +1,188 @@
+"""Bending and twist energy of a framed bar chain in 3D, with its exact gradient and block-tridiagonal Hessian.
+
+Every bar ``k`` carries a material frame (a quaternion ``q_k``, :mod:`guidewire.rod.quaternion`, in the chart
+``q_k = q⁰_k + E_k ω_k``); the base carries the clamp's frame ``q_B`` (tangent and rotation angle imposed). The terms
+are those of the planar second-order scheme (:func:`guidewire.energy.bending_terms`: the same joints, nodes, weights
+``c = EI / (2 w)``, series stiffness across a section boundary, rest angles ``Δθ⁰ = Σ κ⁰ l / 2`` over the half bars a
+term covers), with the joint angle replaced by the strains of :mod:`guidewire.rod.strain`::
+
+    E = Σ_joints  c_EI |κ − (0, Δθ⁰)|²  +  c_GJ τ²        joints: clamp (q_B, q_1), interior (q_k, q_{k+1})
+      + Σ_halves  c_EI |κ_half − (0, Δθ⁰)|²               at a node with a prescribed tangent t*
+
+``κ`` is the bending vector in material axes (mid-frame of the joint), ``τ`` the twist (DER: transported ``d1``
+against the next ``d1``); the rest curvature bends a bar towards its ``d1`` (Darboux vector ``κ⁰ d2``), so a planar
+chain with ``d2`` normal to its plane is the 2-D model term for term. A node with a prescribed tangent splits its
+bending into two half joints against a frame ``q*`` with ``d3 = t*`` (as the 2-D scheme does), each in its bar's own
+axes (so the arbitrary roll of ``q*`` drops out); the twist across that node stays one term between the two bars.
+
+Cost: one pass over the joints with 6-variable jets (:mod:`guidewire.rod.jet`), O(n); the Hessian is block
+tridiagonal with 3 × 3 blocks (a joint couples its two bars only).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..energy import bending_terms
+from . import quaternion as quat
+from .jet import Jet
+from .strain import joint_strain
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int_]
+
+
+@dataclass(frozen=True)
+class EnergyParts:
+    """The energy at one point: total and split, gradient per bar and the Hessian's blocks.
+
+    Attributes
+    ----------
+    bending, twist : float
+        N·mm.
+    gradient : ndarray, shape (n, 3)
+        ``∂E/∂ω_k`` (N·mm).
+    diagonal : ndarray, shape (n, 3, 3)
+        ``∂²E/∂ω_k²``.
+    off_diagonal : ndarray, shape (n − 1, 3, 3)
+        ``∂²E/∂ω_k ∂ω_{k+1}``.
+    """
+
+    bending: float
+    twist: float
+    gradient: FloatArray
+    diagonal: FloatArray
+    off_diagonal: FloatArray
+
+    @property
+    def total(self) -> float:
+        return self.bending + self.twist
+
+
+@dataclass(frozen=True)
+class StrainEnergy:
+    """The terms of a clamped rod (see the module docstring), built once per bar layout.
+
+    Attributes
+    ----------
+    lengths : ndarray, shape (n,)
+    base : ndarray, shape (4,)
+        Clamp frame ``q_B``.
+    joint_bending, joint_twist, joint_rest : ndarray, shape (n,)
+        Per full joint ``j`` (``j = 0`` the clamp between ``q_B`` and bar 1, ``j ≥ 1`` between bars ``j`` and
+        ``j + 1`` in 1-based numbering): ``c_EI`` (0 at a node with a prescribed tangent), ``c_GJ`` (N·mm) and
+        ``Δθ⁰`` (rad).
+    half_bar, half_side, half_weight, half_rest, half_frame : ndarrays, shape (h,) / (h, 4)
+        Half joints at prescribed tangents: the bar (0-based), ``+1`` for the bar before the node (bar → t*),
+        ``−1`` for the bar after it (t* → bar), ``c_EI``, ``Δθ⁰`` and the frame ``q*``.
+    """
+
+    lengths: FloatArray
+    base: FloatArray
+    joint_bending: FloatArray
+    joint_twist: FloatArray
+    joint_rest: FloatArray
+    half_bar: IntArray
+    half_side: FloatArray
+    half_weight: FloatArray
+    half_rest: FloatArray
+    half_frame: FloatArray
+
+    @classmethod
+    def build(cls, lengths: FloatArray, bending_stiffness: float | FloatArray, twist_stiffness: float | FloatArray,
+              base_frame: FloatArray, rest_curvature: FloatArray | None = None,
+              tangent_nodes: IntArray | None = None, tangents: FloatArray | None = None) -> StrainEnergy:
+        """Terms for bar ``lengths`` (mm), ``EI`` and ``GJ`` (N·mm², scalar or per bar), the clamp's frame (a
+        quaternion, or rows ``[d1; d2; d3]``), ``κ⁰`` per bar (1/mm) and prescribed unit ``tangents`` (m, 3) at
+        ``tangent_nodes`` (1..n)."""
+        lengths = np.asarray(lengths, dtype=float)
+        n = lengths.size
+        base = np.asarray(base_frame, dtype=float)
+        base = quat.from_frames(base)[0] if base.shape == (3, 3) else quat.normalised(base)[0]
+        nodes = np.zeros(0, dtype=int) if tangent_nodes is None else np.asarray(tangent_nodes, dtype=int)
+        t_star = np.zeros((0, 3)) if tangents is None else np.asarray(tangents, dtype=float).reshape(-1, 3)
+        bend = bending_terms(lengths, bending_stiffness, "second_order", 0.0, nodes, np.zeros(nodes.size),
+                             rest_curvature)
+        twist = bending_terms(lengths, twist_stiffness, "second_order", 0.0, [], [])
+        left, right = _columns(bend)
+        rest = bend.rest_angles
+        joint_bending, joint_rest = np.zeros(n), np.zeros(n)
+        full = right >= 0
+        full &= (left >= 0) | (bend.node == 0)
+        joint_bending[right[full]] = bend.weight[full]
+        joint_rest[right[full]] = rest[full]
+        half = ~full
+        half_bar = np.where(left >= 0, left, right)[half]
+        half_side = np.where(left >= 0, 1.0, -1.0)[half]
+        frames = {int(k): quat.from_frames(quat.frame_from_tangent(t))[0] for k, t in zip(nodes, t_star, strict=True)}
+        half_frame = np.array([frames[int(k)] for k in bend.node[half]]).reshape(-1, 4)
+        t_left, t_right = _columns(twist)
+        joint_twist = np.zeros(n)
+        joint_twist[t_right] = twist.weight
+        return cls(lengths, base, joint_bending, joint_twist, joint_rest, half_bar.astype(int), half_side,
+                   bend.weight[half], rest[half], half_frame)
+
+    @property
+    def n(self) -> int:
+        return int(self.lengths.size)
+
+    def evaluate(self, q0: FloatArray, basis: FloatArray, omega: FloatArray, derivatives: bool = True) -> EnergyParts:
+        """Energy at ``q_k = q0_k + basis_k ω_k`` (shapes (n, 4), (n, 4, 3), (n, 3))."""
+        n = self.n
+        q = q0 + np.einsum("kij,kj->ki", basis, omega)
+        # full joints: variables (ω_left, ω_right), the clamp's left side a constant
+        left_value = np.vstack((self.base, q[:-1]))
+        left_slope = np.concatenate((np.zeros((1, 4, 3)), basis[:-1]))
+        zeros = np.zeros((n, 4, 3))
+        qa = [Jet.affine(left_value[:, c], np.concatenate((left_slope[:, c], zeros[:, c]), axis=1)) for c in range(4)]
+        qb = [Jet.affine(q[:, c], np.concatenate((zeros[:, c], basis[:, c]), axis=1)) for c in range(4)]
+        k1, k2, tau = joint_strain(quat.relative(qa, qb), "mid")
+        bend = (k1.square() + (k2 - self.joint_rest).square()) * self.joint_bending
+        twist = tau.square() * self.joint_twist
+        joint = bend + twist
+        bending = float(bend.value.sum())
+        gradient = joint.grad[:, 3:].copy()
+        gradient[:-1] += joint.grad[1:, :3]
+        diagonal = joint.hess[:, 3:, 3:].copy()
+        diagonal[:-1] += joint.hess[1:, :3, :3]
+        off = joint.hess[1:, :3, 3:].copy()
+        if self.half_bar.size:
+            b = self.half_bar
+            qk = [Jet.affine(q[b, c], basis[b, c]) for c in range(4)]
+            star = [Jet.constant(self.half_frame[:, c], 3) for c in range(4)]
+            before = self.half_side > 0
+            parts = []
+            for mask, pair, axes in ((before, (qk, star), "a"), (~before, (star, qk), "b")):
+                if np.any(mask):  # bar → t* in the bar's axes (a); t* → bar in the bar's axes (b): both along s
+                    h1, h2, _ = joint_strain([_take(j, mask) for j in quat.relative(*pair)], axes)
+                    e = (h1.square() + (h2 - self.half_rest[mask]).square()) * self.half_weight[mask]
+                    parts.append((np.flatnonzero(mask), e))
+            for index, e in parts:
+                bending += float(e.value.sum())
+                np.add.at(gradient, b[index], e.grad)
+                np.add.at(diagonal, b[index], e.hess)
+        return EnergyParts(bending, float(twist.value.sum()), gradient, diagonal, off)
+
+    def value(self, q: FloatArray) -> tuple[float, float]:
+        """``(bending, twist)`` in N·mm of frames ``q`` (n, 4), without derivatives."""
+        parts = self.evaluate(q, np.zeros((self.n, 4, 3)), np.zeros((self.n, 3)))
+        return parts.bending, parts.twist
+
+
+def _columns(terms) -> tuple[IntArray, IntArray]:  # noqa: ANN001  (guidewire.energy.EnergyTerms)
+    """Left and right bar (0-based, −1 for none) of every term of a planar :class:`~guidewire.energy.EnergyTerms`."""
+    D = terms.matrix
+    m = D.shape[0]
+    left, right = np.full(m, -1), np.full(m, -1)
+    rows = np.repeat(np.arange(m), np.diff(D.indptr))
+    neg = D.data < 0
+    left[rows[neg]] = D.indices[neg]
+    right[rows[~neg]] = D.indices[~neg]
+    return left, right
+
+
+def _take(jet: Jet, mask: NDArray[np.bool_]) -> Jet:
+    return Jet(jet.value[mask], jet.grad[mask], jet.hess[mask])

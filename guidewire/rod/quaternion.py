@@ -168,32 +168,33 @@ def frame_from_tangent(tangent: FloatArray, normal_hint: FloatArray | None = Non
     return np.vstack((d1, np.cross(t, d1), t))
 
 
-def parallel_transport(frames0: FloatArray, tangents: FloatArray) -> FloatArray:
-    """Frames along a polyline of unit ``tangents`` (m, 3), each the previous one carried by the least rotation onto
-    the next tangent (no twist), starting from ``frames0`` (3, 3) whose ``d3`` is ``tangents[0]``'s predecessor.
+def swing(a: FloatArray, b: FloatArray) -> FloatArray:
+    """Quaternions (m, 4) of the least rotations taking unit vectors ``a`` onto ``b`` (m, 3 each; not antiparallel):
+    ``(1 + a·b, a × b)`` normalised."""
+    a, b = np.atleast_2d(a), np.atleast_2d(b)
+    q = np.column_stack((1.0 + np.einsum("ij,ij->i", a, b), np.cross(a, b)))
+    if np.any(q[:, 0] <= 1e-12):
+        raise ValueError("two consecutive directions are antiparallel; a frame cannot be carried across a half-turn.")
+    return normalised(q)
 
-    A sequential loop of small 3-vector operations over the bars; used to build starts, not in the solve loop."""
-    out = np.empty((len(tangents), 3, 3))
-    frame = np.asarray(frames0, dtype=float)
-    for i, t in enumerate(np.asarray(tangents, dtype=float)):
-        frame = transport(frame, t)
-        out[i] = frame
+
+def cumulative_product(q: FloatArray) -> FloatArray:
+    """``P_k = q_k ⊗ q_{k−1} ⊗ … ⊗ q_0`` for quaternions (m, 4), by prefix doubling: ⌈log₂ m⌉ vectorised rounds."""
+    out = as_array(q).copy()
+    step = 1
+    while step < out.shape[0]:
+        later = np.stack(multiply(out[step:].T, out[:-step].T), axis=1)
+        out[step:] = later
+        step *= 2
     return out
 
 
-def transport(frame: FloatArray, t: FloatArray) -> FloatArray:
-    """``frame`` (3, 3) rotated by the least rotation taking its ``d3`` onto the unit vector ``t``."""
-    a = frame[2]
-    k = np.cross(a, t)
-    c = float(a @ t)
-    if c <= -1.0 + 1e-12:
-        raise ValueError("a bar turns back on itself (tangents antiparallel); the frame cannot be carried over.")
-    rot = c * np.eye(3) + _cross_matrix(k) + np.outer(k, k) / (1.0 + c)
-    d1 = rot @ frame[0]
-    d1 -= (d1 @ t) * t
-    d1 /= np.linalg.norm(d1)
-    return np.vstack((d1, np.cross(t, d1), t))
-
-
-def _cross_matrix(k: FloatArray) -> FloatArray:
-    return np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+def transported_frames(base: FloatArray, tangents: FloatArray) -> FloatArray:
+    """Quaternions (m, 4) of the frames parallel-transported from the clamp frame ``base`` (a quaternion) along unit
+    ``tangents`` (m, 3): frame ``k`` is ``swing(t_{k−1} → t_k) ⊗ frame_{k−1}``, frame ``−1`` the clamp (no twist)."""
+    t = np.asarray(tangents, dtype=float)
+    t = t / np.linalg.norm(t, axis=1, keepdims=True)
+    t_base = np.stack(tangent_components(normalised(base)[0]))
+    previous = np.vstack((t_base, t[:-1]))
+    total = cumulative_product(swing(previous, t))
+    return continuous(np.stack(multiply(total.T, normalised(base)[0]), axis=1), normalised(base)[0])

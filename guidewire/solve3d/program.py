@@ -1,0 +1,273 @@
+"""The 3-D scene as a sparse nonlinear program for :func:`sqp.minimize` (exact Hessian, O(n) per evaluation).
+
+Variables, interleaved per bar ``k = 1..n`` (``6n``): the chart parameters ``ω_k`` of its frame
+(:mod:`guidewire.rod.quaternion`, ``q_k = q⁰_k ⊗ (1, ω_k)``) and its end node ``p_k = s u_k`` in units of the length
+scale ``s`` (so node variables are at most about 1, like ``ω``)::
+
+    z = [ω_1, u_1, ω_2, u_2, …, ω_n, u_n]
+
+Why this layout. The frames carry bending and twist (three degrees of freedom per bar, no unit-norm row: the chart is
+homogeneous); the node positions make every row local. Each closure row involves one bar and its two nodes, each
+lumen or wall row one node, so every Jacobian row has at most five nonzeros and the Lagrangian Hessian is block
+tridiagonal (energy) plus block diagonal (closure, lumen): banded in this ordering, so a QP costs O(n) with a sparse
+backend. Angle variables (two per tangent) would have poles; node positions alone would need reference frames for the
+twist (discrete elastic rods' time-parallel transport); quaternions in a chart have neither problem.
+
+Rows:
+
+``closure`` (equalities, nonlinear): ``s u_k − s u_{k−1} − l_k t(q_k) = 0`` (3 per bar; ``u_0`` the clamp). Multiplier
+    ``μ_k`` (N): the force that the wire before bar ``k`` exerts on the wire from bar ``k`` on (``μ_1`` the clamp's force).
+contact points (linear equalities): ``s u_k = p``. Multiplier: the contact force on the wire (N).
+walls (linear inequalities): ``s n̂ · u_k ≤ b`` for every node. Multiplier ``≤ 0``: the wall pushes with ``λ n̂``.
+lumen (nonlinear inequalities): ``D(p_k) ≥ r_k``, ``D`` the vessel's clearance (distance to the wall, > 0 inside,
+    :mod:`guidewire.vessel3d`), ``r_k`` the wire's radius at node ``k``. Multiplier ``λ_k ≥ 0``: the wall's force
+    ``λ_k ∇D`` (normal to the wall, pointing in).
+
+Objective: :class:`guidewire.rod.strain_energy.StrainEnergy` in ``ω`` minus the tip load's work ``F · p_n``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+from scipy.optimize import LinearConstraint
+
+from ..chain import explicit_bars, place_bars
+from ..rod import kinematics
+from ..rod import quaternion as quat
+from ..rod.material import twist_stiffness
+from ..rod.strain_energy import EnergyParts, StrainEnergy
+from .scene import Scene3D
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int_]
+
+
+def bar_layout(scene: Scene3D) -> tuple[FloatArray, IntArray]:
+    """Bar lengths (n,) and the node of every contact: a node at every contact and section boundary
+    (:func:`guidewire.chain.place_bars`, or the wire's explicit ``bar_lengths``)."""
+    wire = scene.wire
+    s = [c.s for c in scene.contacts]
+    if wire.bar_lengths is not None:
+        return explicit_bars(wire.bar_lengths, s, wire.section_boundaries())
+    return place_bars(wire.length, wire.bars, s, wire.section_boundaries(), [c.point is not None for c in scene.contacts])
+
+
+def length_scale(scene: Scene3D) -> float:
+    """``max(1 mm, |base| + L)``: every node lies within it of the origin."""
+    return max(1.0, float(np.linalg.norm(scene.base.point)) + scene.wire.length)
+
+
+def node_radii(scene: Scene3D, lengths: FloatArray) -> FloatArray:
+    """Wire radius (mm) at nodes ``1..n``: the larger of the two adjoining bars' (the tip: its bar's)."""
+    s_mid = np.concatenate(([0.0], np.cumsum(lengths)))[:-1] + 0.5 * lengths
+    d = scene.wire.properties_at(s_mid).diameter
+    return 0.5 * np.maximum(d, np.append(d[1:], d[-1]))
+
+
+@dataclass
+class Program:
+    """The program of one scene about reference frames ``q0`` (see the module docstring)."""
+
+    scene: Scene3D
+    lengths: FloatArray
+    contact_nodes: IntArray
+    energy: StrainEnergy
+    q0: FloatArray
+    scale: float
+    basis: FloatArray = field(init=False)
+    _cache: dict[str, Any] = field(default_factory=dict, init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        self.q0 = quat.continuous(self.q0, self.energy.base)
+        self.basis = quat.chart_basis(self.q0)
+
+    @classmethod
+    def build(cls, scene: Scene3D, q0: FloatArray) -> Program:
+        lengths, contact_nodes = bar_layout(scene)
+        wire = scene.wire
+        s_mid = np.concatenate(([0.0], np.cumsum(lengths)))[:-1] + 0.5 * lengths
+        props = wire.properties_at(s_mid)
+        gj = twist_stiffness(wire, s_mid, scene.poisson_ratio, scene.shear_modulus)
+        with_tangent = [i for i, c in enumerate(scene.contacts) if c.tangent is not None]
+        energy = StrainEnergy.build(lengths, props.bending_stiffness, gj, scene.base.frame(), props.rest_curvature,
+                                    contact_nodes[with_tangent],
+                                    np.array([scene.contacts[i].tangent for i in with_tangent]).reshape(-1, 3))
+        q0 = np.asarray(q0, dtype=float)
+        if q0.shape != (lengths.size, 4):
+            raise ValueError(f"initial frames have shape {q0.shape}; expected ({lengths.size}, 4), one per bar.")
+        return cls(scene, lengths, contact_nodes, energy, q0, length_scale(scene))
+
+    # -- variables -----------------------------------------------------------------------------------------------
+    @property
+    def n(self) -> int:
+        return int(self.lengths.size)
+
+    @property
+    def base_point(self) -> FloatArray:
+        return np.asarray(self.scene.base.point, dtype=float)
+
+    def split(self, z: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """``(ω (n, 3), nodes (n + 1, 3))`` of ``z`` (nodes in mm, the clamp first)."""
+        w = np.asarray(z, dtype=float).reshape(self.n, 6)
+        return w[:, :3], np.vstack((self.base_point, self.scale * w[:, 3:]))
+
+    def frames(self, z: FloatArray) -> FloatArray:
+        """Normalised quaternions (n, 4) at ``z``."""
+        omega = np.asarray(z, dtype=float).reshape(self.n, 6)[:, :3]
+        return quat.normalised(self.q0 + np.einsum("kij,kj->ki", self.basis, omega))
+
+    def start(self) -> FloatArray:
+        """``z`` at the reference frames: ``ω = 0``, nodes the running sum of ``l_k t(q⁰_k)`` (closure exact)."""
+        z = np.zeros((self.n, 6))
+        z[:, 3:] = kinematics.nodes(self.base_point, self.lengths, self.q0)[1:] / self.scale
+        return z.ravel()
+
+    # -- objective -----------------------------------------------------------------------------------------------
+    def parts(self, z: FloatArray) -> EnergyParts:
+        key = np.asarray(z, dtype=float).tobytes()
+        if self._cache.get("key") != key:
+            omega, _ = self.split(z)
+            self._cache.update(key=key, parts=self.energy.evaluate(self.q0, self.basis, omega))
+        return self._cache["parts"]
+
+    def fun(self, z: FloatArray) -> float:
+        value = self.parts(z).total
+        if self.scene.tip_force is not None:
+            value -= self.scale * float(np.dot(self.scene.tip_force, np.asarray(z)[-3:]))
+        return value
+
+    def jac(self, z: FloatArray) -> FloatArray:
+        g = np.zeros((self.n, 6))
+        g[:, :3] = self.parts(z).gradient
+        if self.scene.tip_force is not None:
+            g[-1, 3:] -= self.scale * np.asarray(self.scene.tip_force)
+        return g.ravel()
+
+    def hess(self, z: FloatArray) -> sp.csc_matrix:
+        parts = self.parts(z)
+        rows, cols = _energy_pattern(self.n)
+        data = np.concatenate((parts.diagonal.ravel(), parts.off_diagonal.ravel(),
+                               parts.off_diagonal.transpose(0, 2, 1).ravel()))
+        m = 6 * self.n
+        return sp.csc_matrix((data, (rows, cols)), shape=(m, m))
+
+    # -- rows ----------------------------------------------------------------------------------------------------
+    def constraints(self) -> list[Any]:
+        """Every row block, closure first (see the module docstring for signs)."""
+        out: list[Any] = [self._closure()]
+        linear = self._contact_rows()
+        if linear is not None:
+            out.append(linear)
+        walls = self._wall_rows()
+        if walls is not None:
+            out.append(walls)
+        if self.scene.vessel is not None:
+            out.append(self._lumen_rows())
+        return out
+
+    def _closure(self) -> dict[str, Any]:
+        n, s, lengths = self.n, self.scale, self.lengths
+        k = np.repeat(np.arange(n), 3)
+        i = np.tile(np.arange(3), n)
+        row = np.arange(3 * n)
+        # entries per row: u_{k-1,i} (k ≥ 1), ω_k (3), u_{k,i}
+        prev = k >= 1
+        r_prev, c_prev = row[prev], 6 * (k[prev] - 1) + 3 + i[prev]
+        r_om, c_om = np.repeat(row, 3), (6 * k[:, None] + np.arange(3)).ravel()
+        r_own, c_own = row, 6 * k + 3 + i
+        rows = np.concatenate((r_prev, r_om, r_own))
+        cols = np.concatenate((c_prev, c_om, c_own))
+        m = 6 * n
+
+        def fun(z: FloatArray) -> FloatArray:
+            omega, p = self.split(z)
+            t = kinematics.tangents(self.q0, self.basis, omega)[0]
+            return (np.diff(p, axis=0) - lengths[:, None] * t).ravel()
+
+        def jac(z: FloatArray) -> sp.csr_matrix:
+            omega, _ = self.split(z)
+            dt = kinematics.tangents(self.q0, self.basis, omega)[1]
+            data = np.concatenate((np.full(r_prev.size, -s), (-lengths[:, None, None] * dt).ravel(),
+                                   np.full(n * 3, s)))
+            return sp.csr_matrix((data, (rows, cols)), shape=(3 * n, m))
+
+        h_rows, h_cols = _block_diagonal_pattern(n, 0)
+
+        def hess(z: FloatArray, v: FloatArray) -> sp.csc_matrix:
+            omega, _ = self.split(z)
+            ddt = kinematics.tangents(self.q0, self.basis, omega)[2]
+            blocks = -lengths[:, None, None] * np.einsum("ki,kiab->kab", np.reshape(v, (n, 3)), ddt)
+            return sp.csc_matrix((blocks.ravel(), (h_rows, h_cols)), shape=(m, m))
+
+        return {"type": "eq", "fun": fun, "jac": jac, "hess": hess}
+
+    def _contact_rows(self) -> LinearConstraint | None:
+        pinned = [(k, c.point) for k, c in zip(self.contact_nodes, self.scene.contacts, strict=True)
+                  if c.point is not None]
+        if not pinned:
+            return None
+        k = np.array([p[0] for p in pinned])
+        rows = np.arange(3 * k.size)
+        cols = (6 * (k[:, None] - 1) + 3 + np.arange(3)).ravel()
+        A = sp.csr_matrix((np.full(rows.size, self.scale), (rows, cols)), shape=(rows.size, 6 * self.n))
+        target = np.array([p[1] for p in pinned], dtype=float).ravel()
+        return LinearConstraint(A, target, target)
+
+    def _wall_rows(self) -> LinearConstraint | None:
+        walls = self.scene.walls
+        if not walls:
+            return None
+        n = self.n
+        normals = np.array([w.normal for w in walls])
+        offsets = np.array([w.offset for w in walls])
+        rows = np.repeat(np.arange(len(walls) * n), 3)
+        node = np.tile(np.arange(n), len(walls))
+        cols = (6 * node[:, None] + 3 + np.arange(3)).ravel()
+        data = (self.scale * np.repeat(normals, n, axis=0)).ravel()
+        A = sp.csr_matrix((data, (rows, cols)), shape=(len(walls) * n, 6 * n))
+        return LinearConstraint(A, np.full(len(walls) * n, -np.inf), np.repeat(offsets, n))
+
+    def _lumen_rows(self) -> dict[str, Any]:
+        n, s, vessel = self.n, self.scale, self.scene.vessel
+        needed = node_radii(self.scene, self.lengths)
+        rows = np.repeat(np.arange(n), 3)
+        cols = (6 * np.arange(n)[:, None] + 3 + np.arange(3)).ravel()
+        h_rows, h_cols = _block_diagonal_pattern(n, 3)
+        m = 6 * n
+
+        def fun(z: FloatArray) -> FloatArray:
+            return vessel.clearance3d(self.split(z)[1][1:]).distance - needed
+
+        def jac(z: FloatArray) -> sp.csr_matrix:
+            c = vessel.clearance3d(self.split(z)[1][1:])
+            return sp.csr_matrix((s * c.gradient.ravel(), (rows, cols)), shape=(n, m))
+
+        def hess(z: FloatArray, v: FloatArray) -> sp.csc_matrix:
+            c = vessel.clearance3d(self.split(z)[1][1:])
+            blocks = s * s * np.asarray(v, dtype=float)[:, None, None] * c.hessian
+            return sp.csc_matrix((blocks.ravel(), (h_rows, h_cols)), shape=(m, m))
+
+        return {"type": "ineq", "fun": fun, "jac": jac, "hess": hess}
+
+
+def _energy_pattern(n: int) -> tuple[IntArray, IntArray]:
+    """COO rows and columns of the energy Hessian's blocks: diagonal (n × 9), upper (n − 1) × 9, lower."""
+    a = np.arange(3)
+    d_rows = (6 * np.arange(n)[:, None, None] + a[None, :, None]) + 0 * a[None, None, :]
+    d_cols = (6 * np.arange(n)[:, None, None] + a[None, None, :]) + 0 * a[None, :, None]
+    o_rows = d_rows[:-1]
+    o_cols = d_cols[:-1] + 6
+    return (np.concatenate((d_rows.ravel(), o_rows.ravel(), o_cols.transpose(0, 2, 1).ravel())),
+            np.concatenate((d_cols.ravel(), o_cols.ravel(), o_rows.transpose(0, 2, 1).ravel())))
+
+
+def _block_diagonal_pattern(n: int, offset: int) -> tuple[IntArray, IntArray]:
+    """COO rows and columns of n 3 × 3 blocks at columns ``6k + offset``."""
+    a = np.arange(3)
+    base = 6 * np.arange(n)[:, None, None] + offset
+    return (base + a[None, :, None] + 0 * a).ravel(), (base + a[None, None, :] + 0 * a[:, None]).ravel()

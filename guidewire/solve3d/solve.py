@@ -1,0 +1,157 @@
+"""``solve3d(scene)``: start → sparse program → :func:`sqp.minimize` (exact Hessian) → re-centred rounds → answer.
+
+The chart of every bar's frame is centred on its start (:mod:`guidewire.rod.quaternion`); a bar that turns by more
+than :data:`RECENTRE_ANGLE` within a solve is far out in its chart (whose Hessian grows like ``|ω|²``), so the answer
+is taken as the next round's reference frames and solved again (usually converged in one or two iterations), up to
+:data:`MAX_ROUNDS` times. A failed solve returns a :class:`Solution3D` with ``success`` False, its status and
+message, and no forces; bad input raises ``ValueError`` before any work.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+import sqp
+
+from ..rod import kinematics
+from ..rod import quaternion as quat
+from ..rod.strain import joint_strain
+from .program import Program, bar_layout
+from .result import ContactForce3D, Solution3D, clamp_moment, half_joint_moment
+from .scene import Scene3D
+from .start import start_frames
+
+FloatArray = NDArray[np.float64]
+
+RECENTRE_ANGLE = np.pi / 2
+"""A round ends with re-centring when some bar turned by more than this within it (``|ω| > tan(angle/2)``)."""
+
+MAX_ROUNDS = 4
+"""Solves of one scene at most (the first and the re-centred ones)."""
+
+
+def solve3d(scene: Scene3D, *, initial_nodes: Any = None, initial_frames: Any = None, tol: float = 1e-8,
+            max_iter: int = 300, qp_solver: str | None = None, verbose: bool = False) -> Solution3D:
+    """The minimum-energy shape of the wire in ``scene``.
+
+    Parameters
+    ----------
+    scene : Scene3D
+    initial_nodes : array_like, shape (n + 1, 3), optional
+        A starting polyline (the clamp first); its bar directions set the start frames.
+    initial_frames : array_like, shape (n, 4), optional
+        Starting frames as quaternions (a previous solve's ``quaternions``: the warm start).
+    tol, max_iter, qp_solver, verbose
+        Passed to :func:`sqp.minimize`.
+
+    Returns
+    -------
+    Solution3D
+    """
+    if not isinstance(scene, Scene3D):
+        raise TypeError(f"scene is {type(scene).__name__}; expected guidewire.solve3d.Scene3D.")
+    if initial_nodes is not None and initial_frames is not None:
+        raise ValueError("give initial_nodes or initial_frames, not both.")
+    start = time.perf_counter()
+    lengths, contact_nodes = bar_layout(scene)
+    if initial_frames is not None:
+        q0 = np.asarray(initial_frames, dtype=float)
+        if q0.shape != (lengths.size, 4) or not np.all(np.isfinite(q0)):
+            raise ValueError(f"initial_frames has shape {q0.shape}; expected ({lengths.size}, 4) finite quaternions.")
+    else:
+        q0 = start_frames(scene, lengths, contact_nodes, initial_nodes)
+    program = Program.build(scene, q0)
+    options: dict[str, Any] = {"tol": tol, "max_iter": max_iter, "verbose": verbose}
+    if qp_solver is not None:
+        options["qp_solver"] = qp_solver
+    z0 = program.start()
+    iterations, rounds = 0, 0
+    multipliers = None
+    while True:
+        rounds += 1
+        kw = {"multipliers0": multipliers} if multipliers is not None else {}
+        res = sqp.minimize(program.fun, z0, jac=program.jac, hess=program.hess, constraints=program.constraints(),
+                           **options, **kw)
+        iterations += int(res.nit)
+        omega, _ = program.split(res.x)
+        turned = float(np.max(np.linalg.norm(omega, axis=1), initial=0.0))
+        if rounds >= MAX_ROUNDS or (res.success and turned <= np.tan(RECENTRE_ANGLE / 2)):
+            break
+        if not res.success and turned <= np.tan(RECENTRE_ANGLE / 2):
+            break
+        program = Program.build(scene, program.frames(res.x))
+        z0 = program.start()
+        multipliers = res.constraint_multipliers if res.success else None
+    return answer(program, res, iterations, rounds, time.perf_counter() - start)
+
+
+def answer(program: Program, res: Any, iterations: int, rounds: int, seconds: float) -> Solution3D:
+    """The :class:`Solution3D` of ``program`` at ``res`` (forces only for a success)."""
+    scene = program.scene
+    z = np.asarray(res.x, dtype=float)
+    q = program.frames(z)
+    _, nodes_var = program.split(z)
+    nodes = kinematics.nodes(program.base_point, program.lengths, q)  # the chain's own kinematics
+    parts = program.energy.evaluate(q, np.zeros((program.n, 4, 3)), np.zeros((program.n, 3)))
+    twist = joint_twists(program.energy.base, q)
+    forces: list[ContactForce3D] = []
+    clamp_f, clamp_m = np.zeros(3), np.zeros(3)
+    extras: dict[str, Any] = {"base_tangent": np.asarray(scene.base.tangent), "closure_gap_mm":
+                              float(np.max(np.abs(nodes - nodes_var)))}
+    success = bool(res.success)
+    if success:
+        lam = list(res.constraint_multipliers)
+        clamp_f = np.asarray(lam[0], dtype=float)[:3].copy()
+        e = program.energy
+        clamp_m = clamp_moment(e.base, q[0], e.joint_bending[0], e.joint_twist[0], e.joint_rest[0])
+        index = 1
+        pinned = [(int(k), c) for k, c in zip(program.contact_nodes, scene.contacts, strict=True)
+                  if c.point is not None]
+        if pinned:
+            values = np.asarray(lam[index], dtype=float).reshape(-1, 3)
+            for (k, _), f in zip(pinned, values, strict=True):
+                norm = float(np.linalg.norm(f))
+                forces.append(ContactForce3D("contact", k, nodes[k], f / norm if norm > 0 else np.zeros(3), f))
+            index += 1
+        if scene.walls:
+            values = np.asarray(lam[index], dtype=float).reshape(len(scene.walls), program.n)
+            for w, row in zip(scene.walls, values, strict=True):
+                for k in np.flatnonzero(row != 0.0):
+                    normal = -np.asarray(w.normal)
+                    forces.append(ContactForce3D("wall", int(k) + 1, nodes[k + 1], normal, -row[k] * np.asarray(w.normal)))
+            index += 1
+        if scene.vessel is not None:
+            values = np.asarray(lam[index], dtype=float)
+            active = np.flatnonzero(values > 0.0)
+            c = scene.vessel.clearance3d(nodes[1:][active])
+            for j, k in enumerate(active):
+                forces.append(ContactForce3D("lumen", int(k) + 1, nodes[k + 1], c.gradient[j],
+                                             values[k] * c.gradient[j]))
+        if scene.tip_force is not None:
+            f = np.asarray(scene.tip_force, dtype=float)
+            norm = float(np.linalg.norm(f))
+            forces.append(ContactForce3D("tip", program.n, nodes[-1], f / norm if norm > 0 else np.zeros(3), f))
+        moment = np.zeros(3)
+        for b, side, w, r, star in zip(e.half_bar, e.half_side, e.half_weight, e.half_rest, e.half_frame,
+                                       strict=True):
+            moment += half_joint_moment(star, q[b], w, r, side > 0)
+        extras["contact_moment"] = moment
+    return Solution3D(success=success, status=int(res.status), message=str(res.message), nodes=nodes,
+                      frames=quat.to_frames(q), quaternions=q, bending_energy=parts.bending,
+                      twist_energy=parts.twist, twist=twist, base_rotation=scene.base.rotation, forces=forces,
+                      clamp_force=clamp_f, clamp_moment=clamp_m, iterations=iterations, rounds=rounds,
+                      solve_time_s=seconds, lengths=program.lengths, extras=extras)
+
+
+def joint_twists(base: FloatArray, q: FloatArray) -> FloatArray:
+    """Twist ``τ`` (rad) of every joint: the clamp's (``q_B`` to bar 1), then between consecutive bars."""
+    from ..rod.jet import Jet
+
+    left = np.vstack((base, q[:-1]))
+    qa = [Jet.constant(left[:, c], 1) for c in range(4)]
+    qb = [Jet.constant(q[:, c], 1) for c in range(4)]
+    return joint_strain(quat.relative(qa, qb), "mid")[2].value

@@ -15,8 +15,9 @@ twist (discrete elastic rods' time-parallel transport); quaternions in a chart h
 
 Rows:
 
-``closure`` (equalities, nonlinear): ``s u_k − s u_{k−1} − l_k t(q_k) = 0`` (3 per bar; ``u_0`` the clamp). Multiplier
-    ``μ_k`` (N): the force that the wire before bar ``k`` exerts on the wire from bar ``k`` on (``μ_1`` the clamp's force).
+``closure`` (equalities, nonlinear): ``s u_k − s u_{k−1} − l_k t(q_k) = 0`` (3 per bar; ``u_0`` the clamp).
+    Multiplier ``μ_k`` (N): the force the wire before bar ``k`` exerts on the wire from bar ``k`` on (``μ_1``: the
+    clamp's force).
 contact points (linear equalities): ``s u_k = p``. Multiplier: the contact force on the wire (N).
 walls (linear inequalities): ``s n̂ · u_k ≤ b`` for every node. Multiplier ``≤ 0``: the wall pushes with ``λ n̂``.
 lumen (nonlinear inequalities): ``D(p_k) ≥ r_k``, ``D`` the vessel's clearance (distance to the wall, > 0 inside,
@@ -54,7 +55,8 @@ def bar_layout(scene: Scene3D) -> tuple[FloatArray, IntArray]:
     s = [c.s for c in scene.contacts]
     if wire.bar_lengths is not None:
         return explicit_bars(wire.bar_lengths, s, wire.section_boundaries())
-    return place_bars(wire.length, wire.bars, s, wire.section_boundaries(), [c.point is not None for c in scene.contacts])
+    pinned = [c.point is not None for c in scene.contacts]
+    return place_bars(wire.length, wire.bars, s, wire.section_boundaries(), pinned)
 
 
 def length_scale(scene: Scene3D) -> float:

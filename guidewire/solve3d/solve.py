@@ -120,9 +120,9 @@ def answer(program: Program, res: Any, iterations: int, rounds: int, seconds: fl
         if scene.walls:
             values = np.asarray(lam[index], dtype=float).reshape(len(scene.walls), program.n)
             for w, row in zip(scene.walls, values, strict=True):
-                for k in np.flatnonzero(row != 0.0):
-                    normal = -np.asarray(w.normal)
-                    forces.append(ContactForce3D("wall", int(k) + 1, nodes[k + 1], normal, -row[k] * np.asarray(w.normal)))
+                normal = np.asarray(w.normal, dtype=float)
+                for k in np.flatnonzero(row != 0.0):  # (λ ≤ 0 on an upper side: the wall pushes along −n̂)
+                    forces.append(ContactForce3D("wall", int(k) + 1, nodes[k + 1], -normal, row[k] * normal))
             index += 1
         if scene.vessel is not None:
             values = np.asarray(lam[index], dtype=float)

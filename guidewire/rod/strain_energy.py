@@ -21,7 +21,7 @@ tridiagonal with 3 × 3 blocks (a joint couples its two bars only).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -75,9 +75,11 @@ class StrainEnergy:
         Per full joint ``j`` (``j = 0`` the clamp between ``q_B`` and bar 1, ``j ≥ 1`` between bars ``j`` and
         ``j + 1`` in 1-based numbering): ``c_EI`` (0 at a node with a prescribed tangent), ``c_GJ`` (N·mm) and
         ``Δθ⁰`` (rad).
-    half_bar, half_side, half_weight, half_rest, half_frame : ndarrays, shape (h,) / (h, 4)
+    half_bar, half_side, half_weight, half_rest, half_twist, half_frame : ndarrays, shape (h,) / (h, 4)
         Half joints at prescribed tangents: the bar (0-based), ``+1`` for the bar before the node (bar → t*),
-        ``−1`` for the bar after it (t* → bar), ``c_EI``, ``Δθ⁰`` and the frame ``q*``.
+        ``−1`` for the bar after it (t* → bar), ``c_EI``, ``Δθ⁰``, ``c_GJ`` (0 unless the contact also holds the
+        roll: then ``GJ / l`` of the bar, a half joint, and the interior twist term at that node is dropped) and the
+        frame ``q*``.
     """
 
     lengths: FloatArray
@@ -89,15 +91,18 @@ class StrainEnergy:
     half_side: FloatArray
     half_weight: FloatArray
     half_rest: FloatArray
+    half_twist: FloatArray
     half_frame: FloatArray
 
     @classmethod
     def build(cls, lengths: FloatArray, bending_stiffness: float | FloatArray, twist_stiffness: float | FloatArray,
               base_frame: FloatArray, rest_curvature: FloatArray | None = None,
-              tangent_nodes: IntArray | None = None, tangents: FloatArray | None = None) -> StrainEnergy:
+              tangent_nodes: IntArray | None = None, tangents: FloatArray | None = None,
+              normals: FloatArray | None = None) -> StrainEnergy:
         """Terms for bar ``lengths`` (mm), ``EI`` and ``GJ`` (N·mm², scalar or per bar), the clamp's frame (a
         quaternion, or rows ``[d1; d2; d3]``), ``κ⁰`` per bar (1/mm) and prescribed unit ``tangents`` (m, 3) at
-        ``tangent_nodes`` (1..n)."""
+        ``tangent_nodes`` (1..n); a row of ``normals`` (m, 3) that is finite also holds the roll there (the
+        material ``d1``), a row of NaN leaves it free."""
         lengths = np.asarray(lengths, dtype=float)
         n = lengths.size
         base = np.asarray(base_frame, dtype=float)
@@ -117,17 +122,33 @@ class StrainEnergy:
         half = ~full
         half_bar = np.where(left >= 0, left, right)[half]
         half_side = np.where(left >= 0, 1.0, -1.0)[half]
-        frames = {int(k): quat.from_frames(quat.frame_from_tangent(t))[0] for k, t in zip(nodes, t_star, strict=True)}
+        d1 = np.full(t_star.shape, np.nan) if normals is None else np.asarray(normals, dtype=float).reshape(-1, 3)
+        frames = {int(k): quat.from_frames(quat.frame_from_tangent(t, None if np.isnan(h).any() else h))[0]
+                  for k, t, h in zip(nodes, t_star, d1, strict=True)}
+        held = {int(k) for k, h in zip(nodes, d1, strict=True) if not np.isnan(h).any()}
         half_frame = np.array([frames[int(k)] for k in bend.node[half]]).reshape(-1, 4)
-        t_left, t_right = _columns(twist)
+        _, t_right = _columns(twist)
         joint_twist = np.zeros(n)
         joint_twist[t_right] = twist.weight
+        gj = np.broadcast_to(np.asarray(twist_stiffness, dtype=float), (n,))
+        rolls = np.isin(bend.node[half], list(held))
+        half_twist = np.where(rolls, gj[half_bar] / lengths[half_bar], 0.0)
+        interior_held = np.array(sorted(k for k in held if k < n), dtype=int)
+        joint_twist[interior_held] = 0.0  # (joint j = node j between bars j and j+1: two half twists instead)
         return cls(lengths, base, joint_bending, joint_twist, joint_rest, half_bar.astype(int), half_side,
-                   bend.weight[half], rest[half], half_frame)
+                   bend.weight[half], rest[half], half_twist, half_frame)
 
     @property
     def n(self) -> int:
         return int(self.lengths.size)
+
+    def aligned(self, q: FloatArray) -> StrainEnergy:
+        """The same terms with every prescribed frame ``q*`` signed like its bar's frame in ``q`` (n, 4): ``q*`` and
+        ``−q*`` are one frame, but the twist ``2 atan2(rz, r0)`` of ``q̄ ⊗ q*`` is measured on the branch ``r0 > 0``."""
+        if not self.half_bar.size:
+            return self
+        sign = np.where(np.einsum("ij,ij->i", self.half_frame, q[self.half_bar]) < 0.0, -1.0, 1.0)
+        return replace(self, half_frame=self.half_frame * sign[:, None])
 
     def evaluate(self, q0: FloatArray, basis: FloatArray, omega: FloatArray, derivatives: bool = True) -> EnergyParts:
         """Energy at ``q_k = q0_k + basis_k ω_k`` (shapes (n, 4), (n, 4, 3), (n, 3))."""
@@ -144,6 +165,7 @@ class StrainEnergy:
         twist = tau.square() * self.joint_twist
         joint = bend + twist
         bending = float(bend.value.sum())
+        twisting = float(twist.value.sum())
         gradient = joint.grad[:, 3:].copy()
         gradient[:-1] += joint.grad[1:, :3]
         diagonal = joint.hess[:, 3:, 3:].copy()
@@ -157,14 +179,15 @@ class StrainEnergy:
             parts = []
             for mask, pair, axes in ((before, (qk, star), "a"), (~before, (star, qk), "b")):
                 if np.any(mask):  # bar → t* in the bar's axes (a); t* → bar in the bar's axes (b): both along s
-                    h1, h2, _ = joint_strain([_take(j, mask) for j in quat.relative(*pair)], axes)
+                    h1, h2, h3 = joint_strain([_take(j, mask) for j in quat.relative(*pair)], axes)
                     e = (h1.square() + (h2 - self.half_rest[mask]).square()) * self.half_weight[mask]
-                    parts.append((np.flatnonzero(mask), e))
-            for index, e in parts:
+                    parts.append((np.flatnonzero(mask), e, h3.square() * self.half_twist[mask]))
+            for index, e, t in parts:
                 bending += float(e.value.sum())
-                np.add.at(gradient, b[index], e.grad)
-                np.add.at(diagonal, b[index], e.hess)
-        return EnergyParts(bending, float(twist.value.sum()), gradient, diagonal, off)
+                twisting += float(t.value.sum())
+                np.add.at(gradient, b[index], e.grad + t.grad)
+                np.add.at(diagonal, b[index], e.hess + t.hess)
+        return EnergyParts(bending, twisting, gradient, diagonal, off)
 
     def value(self, q: FloatArray) -> tuple[float, float]:
         """``(bending, twist)`` in N·mm of frames ``q`` (n, 4), without derivatives."""

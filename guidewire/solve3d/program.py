@@ -86,6 +86,7 @@ class Program:
 
     def __post_init__(self) -> None:
         self.q0 = quat.continuous(self.q0, self.energy.base)
+        self.energy = self.energy.aligned(self.q0)
         self.basis = quat.chart_basis(self.q0)
 
     @classmethod
@@ -98,7 +99,9 @@ class Program:
         with_tangent = [i for i, c in enumerate(scene.contacts) if c.tangent is not None]
         energy = StrainEnergy.build(lengths, props.bending_stiffness, gj, scene.base.frame(), props.rest_curvature,
                                     contact_nodes[with_tangent],
-                                    np.array([scene.contacts[i].tangent for i in with_tangent]).reshape(-1, 3))
+                                    np.array([scene.contacts[i].tangent for i in with_tangent]).reshape(-1, 3),
+                                    np.array([scene.contacts[i].normal or (np.nan,) * 3 for i in with_tangent],
+                                             dtype=float).reshape(-1, 3))
         q0 = np.asarray(q0, dtype=float)
         if q0.shape != (lengths.size, 4):
             raise ValueError(f"initial frames have shape {q0.shape}; expected ({lengths.size}, 4), one per bar.")

@@ -154,12 +154,13 @@ def clamp_moment(base: FloatArray, q1: FloatArray, bending_weight: float, twist_
     return e.grad[0]
 
 
-def half_joint_moment(star: FloatArray, q: FloatArray, weight: float, rest: float, before: bool) -> FloatArray:
+def half_joint_moment(star: FloatArray, q: FloatArray, weight: float, rest: float, twist_weight: float,
+                      before: bool) -> FloatArray:
     """``∂E/∂θ`` of a half joint under a rotation of its prescribed frame ``q*``: the moment a contact that holds the
     tangent exerts on the wire (N·mm, world axes)."""
     slope = 0.5 * np.stack([np.array(quat.multiply(e, star)) for e in np.eye(4)[1:]], axis=1)
     qs = [Jet.affine(np.array([star[c]]), slope[c][None, :]) for c in range(4)]
     qk = [Jet.constant(np.array([q[c]]), 3) for c in range(4)]
     pair, axes = ((qk, qs), "a") if before else ((qs, qk), "b")
-    k1, k2, _ = joint_strain(quat.relative(*pair), axes)
-    return ((k1.square() + (k2 - rest).square()) * weight).grad[0]
+    k1, k2, tau = joint_strain(quat.relative(*pair), axes)
+    return ((k1.square() + (k2 - rest).square()) * weight + tau.square() * twist_weight).grad[0]

@@ -88,12 +88,17 @@ class Base3D:
 
 @dataclass(frozen=True)
 class Contact3D:
-    """A point of the wire at arc length ``s`` with a prescribed position and/or tangent direction."""
+    """A point of the wire at arc length ``s`` with a prescribed position and/or tangent direction.
+
+    With ``normal`` (only with ``tangent``) the contact holds the whole material frame there: ``d1`` is the part of
+    ``normal`` across the tangent (a second clamp, e.g. a torque device or a wire end held in a vice).
+    """
 
     s: float
     point: Vector | None = None
     tangent: Vector | None = None
     name: str = ""
+    normal: Vector | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "s", real(self.s, "contact.s"))
@@ -103,6 +108,14 @@ class Contact3D:
             object.__setattr__(self, "tangent", vector(self.tangent, "contact.tangent", unit=True))
         if self.point is None and self.tangent is None:
             raise ValueError(f"contact at s = {self.s:g} has neither point nor tangent; give at least one.")
+        if self.normal is not None:
+            if self.tangent is None:
+                raise ValueError(f"contact at s = {self.s:g} has a normal but no tangent; the roll is held about the "
+                                 "tangent, so give both.")
+            normal = vector(self.normal, "contact.normal", unit=True)
+            if abs(float(np.dot(normal, self.tangent))) > 1.0 - 1e-9:
+                raise ValueError(f"contact at s = {self.s:g} has its normal along its tangent; give d1 across it.")
+            object.__setattr__(self, "normal", normal)
 
 
 @dataclass(frozen=True)

@@ -136,9 +136,9 @@ def answer(program: Program, res: Any, iterations: int, rounds: int, seconds: fl
             norm = float(np.linalg.norm(f))
             forces.append(ContactForce3D("tip", program.n, nodes[-1], f / norm if norm > 0 else np.zeros(3), f))
         moment = np.zeros(3)
-        for b, side, w, r, star in zip(e.half_bar, e.half_side, e.half_weight, e.half_rest, e.half_frame,
-                                       strict=True):
-            moment += half_joint_moment(star, q[b], w, r, side > 0)
+        for b, side, w, r, g, star in zip(e.half_bar, e.half_side, e.half_weight, e.half_rest, e.half_twist,
+                                          e.half_frame, strict=True):
+            moment += half_joint_moment(star, q[b], w, r, g, side > 0)
         extras["contact_moment"] = moment
     return Solution3D(success=success, status=int(res.status), message=str(res.message), nodes=nodes,
                       frames=quat.to_frames(q), quaternions=q, bending_energy=parts.bending,

@@ -18,7 +18,7 @@ H = 1e-5
 RTOL = 1e-6
 
 
-def _random_rod(n: int, seed: int, rest: bool = True, tangent_nodes: tuple[int, ...] = ()):
+def _random_rod(n: int, seed: int, rest: bool = True, tangent_nodes: tuple[int, ...] = (), held: bool = False):
     rng = np.random.default_rng(seed)
     lengths = rng.uniform(0.5, 2.0, n)
     ei = rng.uniform(1.0, 3.0, n)
@@ -27,7 +27,8 @@ def _random_rod(n: int, seed: int, rest: bool = True, tangent_nodes: tuple[int, 
     base = quat.normalised(rng.normal(size=4))[0]
     tangents = quat.normalised(rng.normal(size=(len(tangent_nodes), 4)))[:, 1:]
     tangents /= np.linalg.norm(tangents, axis=1, keepdims=True)
-    energy = StrainEnergy.build(lengths, ei, gj, base, kappa0, np.array(tangent_nodes, dtype=int), tangents)
+    normals = rng.normal(size=tangents.shape) if held else None
+    energy = StrainEnergy.build(lengths, ei, gj, base, kappa0, np.array(tangent_nodes, dtype=int), tangents, normals)
     # frames: a random walk of moderate relative rotations from the clamp
     steps = quat.rotation_about(quat.normalised(rng.normal(size=(n, 4)))[:, 1:] / np.linalg.norm(
         quat.normalised(rng.normal(size=(n, 4)))[:, 1:], axis=1, keepdims=True), rng.uniform(0.0, 0.8, n))
@@ -52,9 +53,12 @@ def _dense_hessian(parts, n):
     return H3
 
 
-@pytest.mark.parametrize("n, seed, nodes", [(1, 0, ()), (4, 1, ()), (9, 2, (3,)), (12, 3, (5, 12)), (7, 4, (7,))])
-def test_energy_gradient_and_hessian_match_differences(n, seed, nodes):
-    energy, q0, basis, omega = _random_rod(n, seed, tangent_nodes=nodes)
+@pytest.mark.parametrize("n, seed, nodes, held", [(1, 0, (), False), (4, 1, (), False), (9, 2, (3,), False),
+                                                  (12, 3, (5, 12), False), (7, 4, (7,), False), (8, 5, (4, 8), True),
+                                                  (1, 6, (1,), True)])
+def test_energy_gradient_and_hessian_match_differences(n, seed, nodes, held):
+    energy, q0, basis, omega = _random_rod(n, seed, tangent_nodes=nodes, held=held)
+    assert (energy.half_twist > 0).any() == held
     parts = energy.evaluate(q0, basis, omega)
     g = parts.gradient.ravel()
     Hm = _dense_hessian(parts, n)

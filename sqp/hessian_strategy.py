@@ -105,8 +105,9 @@ class ConvexifiedExact:
     the rows that weight was applied on.
     """
 
-    def __init__(self, problem: Problem, lam0: Array | None) -> None:
+    def __init__(self, problem: Problem, lam0: Array | None, inequalities: bool = True) -> None:
         self.problem = problem
+        self.inequalities = inequalities
         self.lam0 = np.zeros(problem.nonlinear.lb.size) if lam0 is None else lam0
         self.shift = 0.0
         self.weight = 0.0
@@ -123,7 +124,7 @@ class ConvexifiedExact:
 
     def model(self, ev: Evaluator, st: State) -> Any:
         lam = st.qp.lam_nl if st.qp is not None else self.lam0
-        self.rows = al_rows(self.problem, lam)
+        self.rows = al_rows(self.problem, lam) if self.inequalities else self.problem.nonlinear.eq
         W = ev.lagrangian_hessian(st.pt.x, lam)
         if ev.hessian_nonfinite is not None:
             return None
@@ -147,8 +148,10 @@ class ConvexifiedExact:
         return st.B, False
 
 
-def hessian_strategy(problem: Problem, B0: Array | None, lam0: Array | None) -> HessianStrategy:
-    """:class:`ConvexifiedExact` when the problem carries exact Hessians, else :class:`DampedBFGS` from ``B0``."""
+def hessian_strategy(problem: Problem, B0: Array | None, lam0: Array | None,
+                     inequalities: bool = True) -> HessianStrategy:
+    """:class:`ConvexifiedExact` when the problem carries exact Hessians (its augmented-Lagrangian term on the active
+    inequalities too when ``inequalities``), else :class:`DampedBFGS` from ``B0``."""
     if problem.hess is not None:
-        return ConvexifiedExact(problem, lam0)
+        return ConvexifiedExact(problem, lam0, inequalities)
     return DampedBFGS(problem, B0)

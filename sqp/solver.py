@@ -71,6 +71,7 @@ def minimize(
     max_iter: int | None = None,
     feasibility_tol: float | None = None,
     verbose: bool = False,
+    convexify_inequalities: bool = True,
 ) -> Result:
     """Minimise ``fun(x, *args)`` subject to bounds and constraints by SQP; scipy's ``minimize(method="SLSQP")`` call.
 
@@ -145,6 +146,10 @@ def minimize(
         (:attr:`sqp.Options.feasibility_tol`).
     verbose : bool
         Print the backend used and an iteration table.
+    convexify_inequalities : bool
+        With ``hess``: whether the augmented-Lagrangian convexification of an indefinite Lagrangian Hessian also
+        covers the active inequalities (:attr:`sqp.Options.convexify_inequalities`; False when the active set moves
+        along many rows at every iteration).
 
     Returns
     -------
@@ -182,7 +187,8 @@ def minimize(
     call = read_settings(jac, tol, options, max_iter, verbose)
     options_ = Options(tol=call.tol, feasibility_tol=feasibility_tol, max_iter=call.max_iter, qp_solver=qp_solver,
                        qp_options=dict(qp_options or {}),
-                       callback=adapt_callback(callback), verbose=call.table)
+                       callback=adapt_callback(callback), verbose=call.table,
+                       convexify_inequalities=bool(convexify_inequalities))
     problem = build_problem(fun, x0, jac, bounds, constraints, args, hess, call.differences)
     if problem.hess is not None and hess0 is not None:  # exact Hessians replace it: check the shape only
         if np.shape(hess0) != (problem.n, problem.n):
@@ -262,7 +268,7 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
     if st is None:
         assert failed is not None
         return failed, False
-    hessian = hessian_strategy(problem, B0, lam0)
+    hessian = hessian_strategy(problem, B0, lam0, options.convexify_inequalities)
     st = State(st.pt, st.der, hessian.initial(st), st.mu)
     monitor = Monitor(problem, options.tol, options.max_iter, st.pt, st.pt.maxcv, options.constraint_tol)
     history: list[IterationRecord] = []

@@ -20,9 +20,9 @@ Rows:
     clamp's force).
 contact points (linear equalities): ``s u_k = p``. Multiplier: the contact force on the wire (N).
 walls (linear inequalities): ``s n̂ · u_k ≤ b`` for every node. Multiplier ``≤ 0``: the wall pushes with ``λ n̂``.
-lumen (nonlinear inequalities): ``D(p_k) ≥ r_k``, ``D`` the vessel's clearance (distance to the wall, > 0 inside,
-    :mod:`guidewire.vessel3d`), ``r_k`` the wire's radius at node ``k``. Multiplier ``λ_k ≥ 0``: the wall's force
-    ``λ_k ∇D`` (normal to the wall, pointing in).
+lumen (nonlinear inequalities): ``g(p_k) ≥ 0``: node ``k`` inside the lumen shrunk by the wire's radius there
+    (:mod:`guidewire.vessel3d.tube`; ``g`` is the clearance in mm to first order at the wall). Multiplier
+    ``λ_k ≥ 0`` (N): the wall's force ``λ_k ∇g`` (normal to the wall, pointing in).
 
 Objective: :class:`guidewire.rod.strain_energy.StrainEnergy` in ``ω`` minus the tip load's work ``F · p_n``.
 """
@@ -118,19 +118,26 @@ class Program:
 
     def split(self, z: FloatArray) -> tuple[FloatArray, FloatArray]:
         """``(ω (n, 3), nodes (n + 1, 3))`` of ``z`` (nodes in mm, the clamp first)."""
-        w = np.asarray(z, dtype=float).reshape(self.n, 6)
+        w = np.asarray(z, dtype=float).reshape(self.n, self.width)
         return w[:, :3], np.vstack((self.base_point, self.scale * w[:, 3:]))
 
     def frames(self, z: FloatArray) -> FloatArray:
         """Normalised quaternions (n, 4) at ``z``."""
-        omega = np.asarray(z, dtype=float).reshape(self.n, 6)[:, :3]
+        omega = np.asarray(z, dtype=float).reshape(self.n, self.width)[:, :3]
         return quat.normalised(self.q0 + np.einsum("kij,kj->ki", self.basis, omega))
 
     def start(self) -> FloatArray:
         """``z`` at the reference frames: ``ω = 0``, nodes the running sum of ``l_k t(q⁰_k)`` (closure exact)."""
-        z = np.zeros((self.n, 6))
+        z = np.zeros((self.n, self.width))
         z[:, 3:] = kinematics.nodes(self.base_point, self.lengths, self.q0)[1:] / self.scale
         return z.ravel()
+
+    width = 6
+    """Variables per bar."""
+
+    @property
+    def size(self) -> int:
+        return self.width * self.n
 
     # -- objective -----------------------------------------------------------------------------------------------
     def parts(self, z: FloatArray) -> EnergyParts:
@@ -147,7 +154,7 @@ class Program:
         return value
 
     def jac(self, z: FloatArray) -> FloatArray:
-        g = np.zeros((self.n, 6))
+        g = np.zeros((self.n, self.width))
         g[:, :3] = self.parts(z).gradient
         if self.scene.tip_force is not None:
             g[-1, 3:] -= self.scale * np.asarray(self.scene.tip_force)
@@ -155,10 +162,10 @@ class Program:
 
     def hess(self, z: FloatArray) -> sp.csc_matrix:
         parts = self.parts(z)
-        rows, cols = _energy_pattern(self.n)
+        rows, cols = _energy_pattern(self.n, self.width)
         data = np.concatenate((parts.diagonal.ravel(), parts.off_diagonal.ravel(),
                                parts.off_diagonal.transpose(0, 2, 1).ravel()))
-        m = 6 * self.n
+        m = self.size
         return sp.csc_matrix((data, (rows, cols)), shape=(m, m))
 
     # -- rows ----------------------------------------------------------------------------------------------------
@@ -176,18 +183,18 @@ class Program:
         return out
 
     def _closure(self) -> dict[str, Any]:
-        n, s, lengths = self.n, self.scale, self.lengths
+        n, s, lengths, W = self.n, self.scale, self.lengths, self.width
         k = np.repeat(np.arange(n), 3)
         i = np.tile(np.arange(3), n)
         row = np.arange(3 * n)
         # entries per row: u_{k-1,i} (k ≥ 1), ω_k (3), u_{k,i}
         prev = k >= 1
-        r_prev, c_prev = row[prev], 6 * (k[prev] - 1) + 3 + i[prev]
-        r_om, c_om = np.repeat(row, 3), (6 * k[:, None] + np.arange(3)).ravel()
-        r_own, c_own = row, 6 * k + 3 + i
+        r_prev, c_prev = row[prev], W * (k[prev] - 1) + 3 + i[prev]
+        r_om, c_om = np.repeat(row, 3), (W * k[:, None] + np.arange(3)).ravel()
+        r_own, c_own = row, W * k + 3 + i
         rows = np.concatenate((r_prev, r_om, r_own))
         cols = np.concatenate((c_prev, c_om, c_own))
-        m = 6 * n
+        m = self.size
 
         def fun(z: FloatArray) -> FloatArray:
             omega, p = self.split(z)
@@ -201,7 +208,7 @@ class Program:
                                    np.full(n * 3, s)))
             return sp.csr_matrix((data, (rows, cols)), shape=(3 * n, m))
 
-        h_rows, h_cols = _block_diagonal_pattern(n, 0)
+        h_rows, h_cols = _block_diagonal_pattern(n, 0, W)
 
         def hess(z: FloatArray, v: FloatArray) -> sp.csc_matrix:
             omega, _ = self.split(z)
@@ -218,8 +225,8 @@ class Program:
             return None
         k = np.array([p[0] for p in pinned])
         rows = np.arange(3 * k.size)
-        cols = (6 * (k[:, None] - 1) + 3 + np.arange(3)).ravel()
-        A = sp.csr_matrix((np.full(rows.size, self.scale), (rows, cols)), shape=(rows.size, 6 * self.n))
+        cols = (self.width * (k[:, None] - 1) + 3 + np.arange(3)).ravel()
+        A = sp.csr_matrix((np.full(rows.size, self.scale), (rows, cols)), shape=(rows.size, self.size))
         target = np.array([p[1] for p in pinned], dtype=float).ravel()
         return LinearConstraint(A, target, target)
 
@@ -232,47 +239,48 @@ class Program:
         offsets = np.array([w.offset for w in walls])
         rows = np.repeat(np.arange(len(walls) * n), 3)
         node = np.tile(np.arange(n), len(walls))
-        cols = (6 * node[:, None] + 3 + np.arange(3)).ravel()
+        cols = (self.width * node[:, None] + 3 + np.arange(3)).ravel()
         data = (self.scale * np.repeat(normals, n, axis=0)).ravel()
-        A = sp.csr_matrix((data, (rows, cols)), shape=(len(walls) * n, 6 * n))
+        A = sp.csr_matrix((data, (rows, cols)), shape=(len(walls) * n, self.size))
         return LinearConstraint(A, np.full(len(walls) * n, -np.inf), np.repeat(offsets, n))
 
     def _lumen_rows(self) -> dict[str, Any]:
-        n, s, vessel = self.n, self.scale, self.scene.vessel
-        needed = node_radii(self.scene, self.lengths)
+        n, s, vessel, W = self.n, self.scale, self.scene.vessel, self.width
+        radii = node_radii(self.scene, self.lengths)
         rows = np.repeat(np.arange(n), 3)
-        cols = (6 * np.arange(n)[:, None] + 3 + np.arange(3)).ravel()
-        h_rows, h_cols = _block_diagonal_pattern(n, 3)
-        m = 6 * n
+        cols = (W * np.arange(n)[:, None] + 3 + np.arange(3)).ravel()
+        h_rows, h_cols = _block_diagonal_pattern(n, 3, W)
+        m = self.size
 
         def fun(z: FloatArray) -> FloatArray:
-            return vessel.clearance3d(self.split(z)[1][1:]).distance - needed
+            return vessel.lumen_rows(self.split(z)[1][1:], radii)[0]
 
         def jac(z: FloatArray) -> sp.csr_matrix:
-            c = vessel.clearance3d(self.split(z)[1][1:])
-            return sp.csr_matrix((s * c.gradient.ravel(), (rows, cols)), shape=(n, m))
+            grad = vessel.lumen_rows(self.split(z)[1][1:], radii)[1]
+            data = s * grad.ravel()
+            return sp.csr_matrix((data, (rows, cols)), shape=(n, m))
 
         def hess(z: FloatArray, v: FloatArray) -> sp.csc_matrix:
-            c = vessel.clearance3d(self.split(z)[1][1:])
-            blocks = s * s * np.asarray(v, dtype=float)[:, None, None] * c.hessian
+            hessian = vessel.lumen_rows(self.split(z)[1][1:], radii)[2]
+            blocks = s * s * np.asarray(v, dtype=float)[:, None, None] * hessian
             return sp.csc_matrix((blocks.ravel(), (h_rows, h_cols)), shape=(m, m))
 
         return {"type": "ineq", "fun": fun, "jac": jac, "hess": hess}
 
 
-def _energy_pattern(n: int) -> tuple[IntArray, IntArray]:
+def _energy_pattern(n: int, width: int) -> tuple[IntArray, IntArray]:
     """COO rows and columns of the energy Hessian's blocks: diagonal (n × 9), upper (n − 1) × 9, lower."""
     a = np.arange(3)
-    d_rows = (6 * np.arange(n)[:, None, None] + a[None, :, None]) + 0 * a[None, None, :]
-    d_cols = (6 * np.arange(n)[:, None, None] + a[None, None, :]) + 0 * a[None, :, None]
+    d_rows = (width * np.arange(n)[:, None, None] + a[None, :, None]) + 0 * a[None, None, :]
+    d_cols = (width * np.arange(n)[:, None, None] + a[None, None, :]) + 0 * a[None, :, None]
     o_rows = d_rows[:-1]
-    o_cols = d_cols[:-1] + 6
+    o_cols = d_cols[:-1] + width
     return (np.concatenate((d_rows.ravel(), o_rows.ravel(), o_cols.transpose(0, 2, 1).ravel())),
             np.concatenate((d_cols.ravel(), o_cols.ravel(), o_rows.transpose(0, 2, 1).ravel())))
 
 
-def _block_diagonal_pattern(n: int, offset: int) -> tuple[IntArray, IntArray]:
-    """COO rows and columns of n 3 × 3 blocks at columns ``6k + offset``."""
+def _block_diagonal_pattern(n: int, offset: int, width: int) -> tuple[IntArray, IntArray]:
+    """COO rows and columns of n 3 × 3 blocks at columns ``width k + offset``."""
     a = np.arange(3)
-    base = 6 * np.arange(n)[:, None, None] + offset
+    base = width * np.arange(n)[:, None, None] + offset
     return (base + a[None, :, None] + 0 * a).ravel(), (base + a[None, None, :] + 0 * a[:, None]).ravel()

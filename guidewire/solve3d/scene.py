@@ -188,7 +188,7 @@ class Scene3D:
         for i, w in enumerate(self.walls):
             if not isinstance(w, Wall3D):
                 raise TypeError(f"scene.walls[{i}] is {type(w).__name__}; expected Wall3D.")
-        if self.vessel is not None and not hasattr(self.vessel, "clearance3d"):
+        if self.vessel is not None and not hasattr(self.vessel, "lumen_rows"):
             raise TypeError(f"scene.vessel is {type(self.vessel).__name__}; expected guidewire.vessel3d.Vessel3D.")
         if self.tip_force is not None:
             object.__setattr__(self, "tip_force", vector(self.tip_force, "scene.tip_force"))

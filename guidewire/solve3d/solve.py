@@ -20,7 +20,7 @@ import sqp
 from ..rod import kinematics
 from ..rod import quaternion as quat
 from ..rod.strain import joint_strain
-from .program import Program, bar_layout
+from .program import Program, bar_layout, node_radii
 from .result import ContactForce3D, Solution3D, clamp_moment, half_joint_moment
 from .scene import Scene3D
 from .start import start_frames
@@ -32,6 +32,10 @@ RECENTRE_ANGLE = np.pi / 2
 
 MAX_ROUNDS = 4
 """Solves of one scene at most (the first and the re-centred ones)."""
+
+TOUCHING = 1e-6
+"""A node whose lumen row is below this fraction of the wire length touches the wall (its force is reported; an
+interior-point QP leaves tiny positive multipliers on the rows it does not hold)."""
 
 
 def solve3d(scene: Scene3D, *, initial_nodes: Any = None, initial_frames: Any = None, tol: float = 1e-8,
@@ -65,7 +69,10 @@ def solve3d(scene: Scene3D, *, initial_nodes: Any = None, initial_frames: Any = 
     else:
         q0 = start_frames(scene, lengths, contact_nodes, initial_nodes)
     program = Program.build(scene, q0)
-    options: dict[str, Any] = {"tol": tol, "max_iter": max_iter, "verbose": verbose}
+    # (the augmented-Lagrangian convexification on the closure equalities only: a wire in a vessel changes its
+    # touching nodes at every iteration, and the term on released lumen rows made convergence linear)
+    options: dict[str, Any] = {"tol": tol, "max_iter": max_iter, "verbose": verbose,
+                               "convexify_inequalities": False}
     if qp_solver is not None:
         options["qp_solver"] = qp_solver
     z0 = program.start()
@@ -74,8 +81,8 @@ def solve3d(scene: Scene3D, *, initial_nodes: Any = None, initial_frames: Any = 
     while True:
         rounds += 1
         kw = {"multipliers0": multipliers} if multipliers is not None else {}
-        res = sqp.minimize(program.fun, z0, jac=program.jac, hess=program.hess, constraints=program.constraints(),
-                           **options, **kw)
+        res = sqp.minimize(program.fun, z0, jac=program.jac, hess=program.hess,
+                           constraints=program.constraints(), **options, **kw)
         iterations += int(res.nit)
         omega, _ = program.split(res.x)
         turned = float(np.max(np.linalg.norm(omega, axis=1), initial=0.0))
@@ -126,11 +133,13 @@ def answer(program: Program, res: Any, iterations: int, rounds: int, seconds: fl
             index += 1
         if scene.vessel is not None:
             values = np.asarray(lam[index], dtype=float)
-            active = np.flatnonzero(values > 0.0)
-            c = scene.vessel.clearance3d(nodes[1:][active])
+            g = scene.vessel.lumen_rows(nodes_var[1:], node_radii(scene, program.lengths))[0]
+            active = np.flatnonzero((values > 0.0) & (g <= TOUCHING * scene.wire.length))
+            grad = scene.vessel.lumen_rows(nodes_var[1:], node_radii(scene, program.lengths))[1][active]
             for j, k in enumerate(active):
-                forces.append(ContactForce3D("lumen", int(k) + 1, nodes[k + 1], c.gradient[j],
-                                             values[k] * c.gradient[j]))
+                norm = float(np.linalg.norm(grad[j]))
+                forces.append(ContactForce3D("lumen", int(k) + 1, nodes[k + 1], grad[j] / norm,
+                                             values[k] * grad[j]))
         if scene.tip_force is not None:
             f = np.asarray(scene.tip_force, dtype=float)
             norm = float(np.linalg.norm(f))

@@ -1,0 +1,140 @@
+"""Quasi-static insertion and rotation in 3-D: pushed, pulled and turned step by step, each step warm-started.
+
+Each step is one :func:`guidewire.solve3d.solve3d` of the scene at that step's inserted length and clamp rotation,
+started from the previous step's answer by the *track* predictor: the wire slides along its previous shape (the
+first ``L_prev`` of the new wire lies where the previous wire lay, a longer wire continues the previous tip's tangent),
+and every bar keeps the roll of the material now there (the frame of the material at ``s − ΔL`` in the previous step,
+turned onto the new tangent by the least rotation; the new material at the entrance takes the clamp's frame). A
+rotation step changes the clamp's frame only: the first joints take the twist and the solve spreads it.
+
+The bar density of the scene (``wire.bars / wire.length``) is kept: a step of length ``L`` has ``round(L · density)``
+bars (at least one per piece).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..rod import kinematics
+from ..rod import quaternion as quat
+from .program import bar_layout
+from .result import Solution3D
+from .scene import Scene3D
+from .solve import solve3d
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Insertion3D:
+    """The steps of :func:`insert3d`: the asked lengths (mm) and rotations (rad), one :class:`Solution3D` per step
+    solved, the wall time (s), and why it stopped early (None when complete)."""
+
+    lengths: tuple[float, ...]
+    rotations: tuple[float, ...]
+    steps: list[Solution3D]
+    seconds: float
+    error: str | None = None
+
+    @property
+    def complete(self) -> bool:
+        return self.error is None and len(self.steps) == len(self.lengths)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"complete": self.complete, "error": self.error, "seconds": self.seconds,
+                "steps": [dict(s.to_dict(), inserted_length=float(np.sum(s.lengths)), rotation=s.base_rotation)
+                          for s in self.steps]}
+
+
+def scene_at(scene: Scene3D, length: float, rotation: float, density: float) -> Scene3D:
+    """``scene`` inserted to ``length`` (mm) with the clamp turned to ``rotation`` (rad), ``density`` bars per mm."""
+    wire = scene.wire.with_length(length)
+    bars = max(1, int(round(length * density)))
+    try:
+        return replace(scene.with_rotation(rotation), wire=replace(wire, bars=bars, bar_lengths=None))
+    except ValueError:  # fewer bars than pieces: one per piece
+        return replace(scene.with_rotation(rotation), wire=replace(wire, bars=bars + len(wire.sections) + 2,
+                                                                   bar_lengths=None))
+
+
+def tracked_frames(previous: Solution3D, scene: Scene3D) -> FloatArray:
+    """Start frames (n, 4) for ``scene`` from ``previous`` by the track predictor (see the module docstring)."""
+    lengths, _ = bar_layout(scene)
+    s_mid = np.cumsum(lengths) - 0.5 * lengths
+    old_nodes_s = np.concatenate(([0.0], np.cumsum(previous.lengths)))
+    shift = float(np.sum(lengths)) - float(old_nodes_s[-1])
+    n_old = previous.n_bars
+    where = np.clip(np.searchsorted(old_nodes_s, s_mid) - 1, 0, n_old - 1)
+    tangents = previous.frames[where, 2].copy()
+    base = quat.from_frames(scene.base.frame())[0]
+    material = s_mid - shift
+    m = np.clip(np.searchsorted(old_nodes_s, material) - 1, 0, n_old - 1)
+    carried = np.where((material < 0.0)[:, None], base, previous.quaternions[m])
+    carried = quat.continuous(carried, base)
+    turn = quat.swing(kinematics.unit_tangents(carried), tangents)
+    return quat.continuous(np.stack(quat.multiply(turn.T, carried.T), axis=1), base)
+
+
+def insert3d(scene: Scene3D, lengths: Iterable[float], rotations: Iterable[float] | float | None = None, *,
+             progress: Callable[[Solution3D, int, int], None] | None = None, **options: Any) -> Insertion3D:
+    """Push, pull and turn the wire of ``scene`` through ``lengths`` (mm) and clamp ``rotations`` (rad).
+
+    Parameters
+    ----------
+    scene : Scene3D
+        Its ``wire.bars / wire.length`` is the bar density kept at every length.
+    lengths : iterable of float
+        Inserted length of every step (mm, positive; any order: a shorter one pulls back).
+    rotations : iterable of float, float or None
+        The clamp's rotation at every step (rad, absolute, one per length); one number for all; None keeps
+        ``scene.base.rotation``.
+    progress : callable, optional
+        ``progress(solution, index, total)`` after each step.
+    **options
+        Passed to :func:`solve3d` (``tol``, ``max_iter``, ``qp_solver``).
+
+    Returns
+    -------
+    Insertion3D
+        A failed step is kept (its status and message say why) and ends the insertion.
+    """
+    values = tuple(float(v) for v in lengths)
+    if not values or any(not np.isfinite(v) or v <= 0.0 for v in values):
+        raise ValueError("lengths must be positive finite inserted lengths (mm), e.g. numpy.arange(10, 101, 1.0).")
+    if rotations is None:
+        turns = (scene.base.rotation,) * len(values)
+    elif np.ndim(rotations) == 0:
+        turns = (float(rotations),) * len(values)  # type: ignore[arg-type]
+    else:
+        turns = tuple(float(v) for v in rotations)  # type: ignore[union-attr]
+        if len(turns) != len(values):
+            raise ValueError(f"rotations has {len(turns)} values for {len(values)} lengths; give one rotation (rad) "
+                             "per step, or one number for all.")
+        if not all(np.isfinite(turns)):
+            raise ValueError("rotations must be finite (rad).")
+    for key in ("initial_frames", "initial_nodes"):
+        if key in options:
+            raise ValueError(f"{key} is set by the insertion (each step starts from the last); do not pass it.")
+    density = scene.wire.bars / scene.wire.length
+    start = time.perf_counter()
+    steps: list[Solution3D] = []
+    error = None
+    previous: Solution3D | None = None
+    for i, (length, turn) in enumerate(zip(values, turns, strict=True)):
+        step_scene = scene_at(scene, length, turn, density)
+        frames = None if previous is None else tracked_frames(previous, step_scene)
+        sol = solve3d(step_scene, initial_frames=frames, **options)
+        steps.append(sol)
+        if progress is not None:
+            progress(sol, i, len(values))
+        if not sol.success:
+            error = f"step {i + 1} (L = {length:g} mm, rotation {turn:g} rad) failed: {sol.message}"
+            break
+        previous = sol
+    return Insertion3D(values, turns, steps, time.perf_counter() - start, error)

@@ -1,0 +1,7 @@
+"""3-D vessels: centreline tubes with radii and branches (:mod:`~guidewire.vessel3d.vessel`), their lumen rows
+(:mod:`~guidewire.vessel3d.tube`), shipped shapes (:mod:`~guidewire.vessel3d.shapes`: a helix, a tortuous coronary
+vessel, the aortic-arch family) and VMTK centreline files (:mod:`~guidewire.vessel3d.vtp`, optional extra)."""
+
+from .vessel import Branch3D, Vessel3D
+
+__all__ = ["Branch3D", "Vessel3D"]

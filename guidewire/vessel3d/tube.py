@@ -1,0 +1,180 @@
+"""One 3-D tube: a C² centreline spline with a radius, the closest-ball search, and the lumen row's derivatives.
+
+The centreline ``c(u)`` is the cubic spline (not-a-knot, as the planar :mod:`guidewire.vessel_curves`) through the
+points in chord length ``u`` (≈ arc length); the radius ``R(u)`` is monotone cubic (PCHIP, no overshoot) in the same
+``u``. Past the last point the tube continues straight along its last tangent with its last radius for
+:data:`TAIL_REACH` mm (or :data:`TAIL_REACH_RADII` radii), so a tip pushed past the end is not stopped.
+
+The lumen is the union of the balls ``|p − c(u)| ≤ R(u)``; a wire node of radius ``r`` must lie in the union of the
+shrunk balls, ``g(p) = max_u h(p, u) ≥ 0`` with (mm)::
+
+    h(p, u) = (a² − |v|²) / (2a),     a = R(u) − r,   v = p − c(u)
+
+Its zero set is the shrunk ball's surface, where ``|∇_p h| = |v| / a = 1``: at the wall ``h`` is the clearance to first
+order and its multiplier is the wall's force in N. Unlike the clearance ``a − |v|`` it is smooth on the centreline and
+its curvature is bounded by ``1/a`` everywhere (the clearance's is ``1/|v|``, which made a node near the axis with a
+small multiplier estimate dominate the Lagrangian Hessian). Across the wall's tangent plane — the directions a
+touching node may still move in — it curves like the true distance. At the maximiser ``u*`` (``h_u = 0``, Newton's
+method from the nearest sample of a k-d tree, vectorised over points) the envelope theorem gives the exact
+derivatives::
+
+    ∇g = −v / a,        ∇²g = h_pp − h_pu h_puᵀ / h_uu,        h_pp = −I / a,      h_pu = c' / a + v a' / a²,
+    h_u  = a'/2 + v·c' / a + |v|² a' / (2a²),
+    h_uu = a''/2 + (v·c'' − |c'|²) / a − 2 (v·c') a' / a² + |v|² a'' / (2a²) − |v|² a'² / a³     (< 0 at a maximum)
+
+(a ball's ``h_pp`` where ``u*`` sits at the entrance, ``u = 0``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.interpolate import CubicSpline, PchipInterpolator
+from scipy.spatial import cKDTree
+
+FloatArray = NDArray[np.float64]
+
+TAIL_REACH = 50.0
+"""Straight continuation past the far end (mm), or :data:`TAIL_REACH_RADII` end radii if longer."""
+
+TAIL_REACH_RADII = 4.0
+
+SAMPLE_SPACING = 0.5
+"""Largest spacing (mm) of the samples that start the closest-ball search (smaller in narrow or tight tubes)."""
+
+NEWTON_STEPS = 5
+
+"""Newton steps on ``u`` from the nearest sample (quadratic convergence from within a spacing)."""
+
+MIN_GAP = 1e-3
+"""Floor of ``a = R − r`` (mm): a lumen narrower than the wire has no room, and its row stays finite."""
+
+
+@dataclass(frozen=True)
+class Closest:
+    """Per point: ``u*``, the centre ``c``, ``c'``, ``c''`` (3 each), ``R, R', R''`` and whether ``u*`` is at the
+    entrance (a ball, not the tube's side)."""
+
+    u: FloatArray
+    centre: FloatArray
+    d1: FloatArray
+    d2: FloatArray
+    radius: FloatArray
+    radius_d1: FloatArray
+    radius_d2: FloatArray
+    at_entrance: NDArray[np.bool_]
+
+
+class Tube:
+    """A tube around ``points`` (m, 3) with ``radius`` (one value or one per point); see the module docstring."""
+
+    def __init__(self, points: FloatArray, radius: FloatArray) -> None:
+        points = np.asarray(points, dtype=float)
+        radius = np.broadcast_to(np.asarray(radius, dtype=float), (len(points),)).copy()
+        chord = np.linalg.norm(np.diff(points, axis=0), axis=1)
+        self.points = points
+        self.breaks = np.concatenate(([0.0], np.cumsum(chord)))
+        self.end = float(self.breaks[-1])
+        if len(points) == 2:
+            self.spline = CubicSpline(self.breaks, points, bc_type="natural")
+        else:
+            self.spline = CubicSpline(self.breaks, points, bc_type="not-a-knot")
+        self.constant_radius = bool(np.all(radius == radius[0]))
+        self.radius_curve = None if self.constant_radius else PchipInterpolator(self.breaks, radius)
+        self.radius0 = float(radius[0])
+        tail_point, tail_d1, _ = self._spline(np.array([self.end]))
+        self.tail_point = tail_point[0]
+        self.tail_tangent = tail_d1[0] / np.linalg.norm(tail_d1[0])
+        self.tail_radius = float(radius[-1])
+        self.reach = max(TAIL_REACH, TAIL_REACH_RADII * self.tail_radius)
+        self.top = self.end + self.reach
+        spacing = min(SAMPLE_SPACING, 0.25 * float(radius.min()))
+        self.u = np.linspace(0.0, self.top, max(2, int(np.ceil(self.top / spacing)) + 1))
+        self.spacing = float(self.u[1] - self.u[0])
+        value = self.evaluate(self.u)
+        self.samples = value.centre
+        self.sample_radius = value.radius
+        self.tree = cKDTree(self.samples)
+
+    # -- evaluation ----------------------------------------------------------------------------------------------
+    def _spline(self, u: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        return self.spline(u), self.spline(u, 1), self.spline(u, 2)
+
+    def evaluate(self, u: FloatArray) -> Closest:
+        """Centre, derivatives and radius at ``u`` (clipped to ``[0, end + reach]``; straight past ``end``)."""
+        u = np.clip(np.asarray(u, dtype=float), 0.0, self.top)
+        inside = u <= self.end
+        ui = np.where(inside, u, self.end)
+        c, d1, d2 = self._spline(ui)
+        past = (u - self.end)[:, None]
+        c = np.where(inside[:, None], c, self.tail_point + past * self.tail_tangent)
+        d1 = np.where(inside[:, None], d1, self.tail_tangent)
+        d2 = np.where(inside[:, None], d2, 0.0)
+        if self.constant_radius:
+            r, r1, r2 = np.full(u.size, self.radius0), np.zeros(u.size), np.zeros(u.size)
+        else:
+            curve = self.radius_curve
+            r = np.where(inside, curve(ui), self.tail_radius)
+            r1 = np.where(inside, curve(ui, 1), 0.0)
+            r2 = np.where(inside, curve(ui, 2), 0.0)
+        return Closest(u, c, d1, d2, r, r1, r2, u <= 0.0)
+
+    # -- the lumen row -------------------------------------------------------------------------------------------
+    def closest(self, p: FloatArray, r: FloatArray) -> Closest:
+        """``u* = argmax_u h(p, u)`` for points ``p`` (m, 3) of wire radii ``r`` (m,)."""
+        _, index = self.tree.query(p)
+        u = self.u[index]
+        h = self.spacing
+        for _ in range(NEWTON_STEPS):
+            # Newton on G = a h_u (nearly linear in u), whose slope at the root is a h_uu < 0
+            e = self.evaluate(u)
+            parts = _Parts(e, p, r)
+            G = parts.a * parts.hu
+            slope = parts.a1 * parts.hu + parts.a * parts.huu
+            step = np.where(slope < 0.0, -G / np.where(slope < 0.0, slope, -1.0), np.sign(G) * h)
+            u = np.clip(u + np.clip(step, -h, h), 0.0, self.top)
+        return self.evaluate(u)
+
+    def rows(self, p: FloatArray, r: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, Closest]:
+        """``g`` (m,), ``∇g`` (m, 3), ``∇²g`` (m, 3, 3) and the closest-ball data (see the module docstring)."""
+        e = self.closest(p, r)
+        parts = _Parts(e, p, r)
+        a, v = parts.a, parts.v
+        g = 0.5 * (a - parts.vv / a)
+        grad = -v / a[:, None]
+        hpp = -np.broadcast_to(np.eye(3), (len(a), 3, 3)) / a[:, None, None]
+        hpu = e.d1 / a[:, None] + v * (parts.a1 / a**2)[:, None]
+        huu = np.minimum(parts.huu, -1e-12)
+        hess = hpp - hpu[:, :, None] * hpu[:, None, :] / huu[:, None, None]
+        hess = np.where(e.at_entrance[:, None, None], hpp, hess)
+        return g, grad, hess, e
+
+    def path(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """Points and unit tangents at chord parameters ``s`` (≈ arc length from the entrance; straight past the
+        end, and before the entrance along the first tangent)."""
+        s = np.asarray(s, dtype=float)
+        e = self.evaluate(np.clip(s, 0.0, None))
+        t = e.d1 / np.linalg.norm(e.d1, axis=1, keepdims=True)
+        before = s < 0.0
+        c = np.where(before[:, None], e.centre + s[:, None] * t, e.centre)
+        return c, t
+
+
+class _Parts:
+    """``a = R − r`` (floored at :data:`MIN_GAP`), its ``u``-derivatives, ``v = p − c`` and ``h_u``, ``h_uu`` of
+    ``h = (a² − |v|²) / (2a)`` at a :class:`Closest` (see the module docstring)."""
+
+    def __init__(self, e: Closest, p: FloatArray, r: FloatArray) -> None:
+        self.a = np.maximum(e.radius - r, MIN_GAP)
+        self.a1, a2 = e.radius_d1, e.radius_d2
+        self.v = v = p - e.centre
+        self.vv = np.einsum("ij,ij->i", v, v)
+        a, a1, vv = self.a, self.a1, self.vv
+        vc = np.einsum("ij,ij->i", v, e.d1)
+        cc = np.einsum("ij,ij->i", e.d1, e.d1)
+        vc2 = np.einsum("ij,ij->i", v, e.d2)
+        self.hu = 0.5 * a1 + vc / a + vv * a1 / (2.0 * a**2)
+        self.huu = (0.5 * a2 + (vc2 - cc) / a - 2.0 * vc * a1 / a**2 + vv * a2 / (2.0 * a**2)
+                    - vv * a1**2 / a**3)

@@ -1,0 +1,241 @@
+"""A 3-D vessel: a main centreline with a radius and branches, each a :class:`~guidewire.vessel3d.tube.Tube`.
+
+Units mm. Built from data (``centreline = [[x, y, z], ...]``, ``radius`` one number or one per point, branches each
+with their own centreline starting inside the lumen), checked when built: a centreline with fewer than two points,
+repeated consecutive points, non-finite values, a radius that is not positive, a bend tighter than the radius or a
+tube that comes back within its radius of itself is refused with a ``ValueError`` naming the field and the points.
+
+The lumen of a tree is the union of its tubes: a point's row is the best tube's (the largest ``g``,
+:mod:`guidewire.vessel3d.tube`). :meth:`Vessel3D.clearance` reports the distance to the wall in mm (> 0 inside).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.spatial import cKDTree
+
+from .tube import Tube
+
+FloatArray = NDArray[np.float64]
+Polyline = tuple[tuple[float, float, float], ...]
+
+BEND_LIMIT = 1.0
+"""A tube whose centreline curvature times radius reaches this anywhere overlaps itself there (refused)."""
+
+
+def _polyline(value: Any, name: str) -> Polyline:
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} is {value!r}; expected a list of points [[x, y, z], ...] in mm.") from None
+    if arr.ndim != 2 or arr.shape[1] != 3:
+        raise ValueError(f"{name} has shape {arr.shape}; expected (m, 3) points [[x, y, z], ...] in mm (a 2-column "
+                         "centreline is a planar guidewire.Vessel).")
+    if len(arr) < 2:
+        raise ValueError(f"{name} has {len(arr)} point(s); give at least two.")
+    bad = ~np.isfinite(arr).all(axis=1)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise ValueError(f"{name}[{i}] is {arr[i].tolist()}; every coordinate must be finite (mm).")
+    same = np.linalg.norm(np.diff(arr, axis=0), axis=1) == 0.0
+    if same.any():
+        i = int(np.argmax(same))
+        raise ValueError(f"{name}[{i}] and [{i + 1}] are the same point {arr[i].tolist()}; remove the repeat.")
+    return tuple(tuple(float(x) for x in row) for row in arr)  # type: ignore[misc]
+
+
+def _radius(value: Any, count: int, name: str) -> float | tuple[float, ...]:
+    arr = np.asarray(value, dtype=float)
+    if arr.ndim == 0:
+        out: float | tuple[float, ...] = float(arr)
+    elif arr.shape == (count,):
+        out = tuple(float(v) for v in arr)
+    else:
+        raise ValueError(f"{name} has shape {arr.shape}; give one radius (mm) or one per centreline point ({count}).")
+    if not np.all(np.isfinite(arr)) or np.any(arr <= 0.0):
+        raise ValueError(f"{name} must be finite and positive (mm); got {arr.ravel()[:4].tolist()}.")
+    return out
+
+
+def _fmt(p: Sequence[float]) -> str:
+    return "(" + ", ".join(f"{v:.4g}" for v in p) + ")"
+
+
+@dataclass(frozen=True)
+class Branch3D:
+    """A side branch: its centreline (first point inside the parent's lumen) and radius."""
+
+    centreline: Polyline
+    radius: float | tuple[float, ...]
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "centreline", _polyline(self.centreline, "vessel.branch.centreline"))
+        object.__setattr__(self, "radius", _radius(self.radius, len(self.centreline), "vessel.branch.radius"))
+
+
+@dataclass(frozen=True)
+class Vessel3D:
+    """A tree of tubes in 3-D (see the module docstring); build with :meth:`from_centreline`."""
+
+    centreline: Polyline
+    radius: float | tuple[float, ...]
+    branches: tuple[Branch3D, ...] = ()
+    name: str = ""
+    _tubes: Any = field(default=None, init=False, repr=False, compare=False)
+    _memo: Any = field(default=None, init=False, repr=False, compare=False)
+
+    @classmethod
+    def from_centreline(cls, centreline: Any, radius: Any, branches: Sequence[Any] = (), name: str = "") -> Vessel3D:
+        """A tube around ``centreline`` (m, 3) with ``radius`` (one or one per point) and ``branches`` (each a
+        :class:`Branch3D` or a pair ``(centreline, radius)``)."""
+        items = []
+        for i, b in enumerate(branches):
+            if isinstance(b, Branch3D):
+                items.append(b)
+            elif isinstance(b, Sequence) and len(b) in (2, 3):
+                try:
+                    items.append(Branch3D(*b))
+                except (TypeError, ValueError) as error:
+                    raise type(error)(str(error).replace("vessel.branch", f"vessel.branch[{i}]")) from None
+            else:
+                raise TypeError(f"vessel.branch[{i}] is {b!r}; expected a Branch3D or (centreline, radius).")
+        return cls(centreline, radius, tuple(items), name)
+
+    def __post_init__(self) -> None:
+        line = _polyline(self.centreline, "vessel.centreline")
+        object.__setattr__(self, "centreline", line)
+        object.__setattr__(self, "radius", _radius(self.radius, len(line), "vessel.radius"))
+        main = Tube(np.array(line), np.asarray(self.radius, dtype=float))
+        _check_tube(main, "vessel.centreline")
+        tubes = [main]
+        for i, b in enumerate(self.branches):
+            if not isinstance(b, Branch3D):
+                raise TypeError(f"vessel.branch[{i}] is {type(b).__name__}; expected Branch3D.")
+            tube = Tube(np.array(b.centreline), np.asarray(b.radius, dtype=float))
+            _check_tube(tube, f"vessel.branch[{i}].centreline")
+            start = np.array(b.centreline[:1])
+            inside = max(float(t.rows(start, np.zeros(1))[0][0]) for t in tubes)
+            if inside < 0.0:
+                raise ValueError(f"vessel.branch[{i}] starts at {_fmt(b.centreline[0])}, outside the lumen it "
+                                 "branches from; start each branch inside its parent's lumen.")
+            tubes.append(tube)
+        object.__setattr__(self, "_tubes", tuple(tubes))
+        object.__setattr__(self, "_memo", {})
+
+    def __getstate__(self) -> dict[str, Any]:
+        return {"centreline": self.centreline, "radius": self.radius, "branches": self.branches, "name": self.name}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        for key, value in state.items():
+            object.__setattr__(self, key, value)
+        self.__post_init__()
+
+    # -- geometry ------------------------------------------------------------------------------------------------
+    @property
+    def tubes(self) -> tuple[Tube, ...]:
+        return self._tubes
+
+    @property
+    def entrance(self) -> tuple[FloatArray, FloatArray]:
+        """The entrance point and the unit tangent pointing in."""
+        p, t = self._tubes[0].path(np.zeros(1))
+        return p[0], t[0]
+
+    @property
+    def entrance_normal(self) -> None:
+        """No preferred material ``d1`` at the entrance (the clamp picks the world axis least aligned with the
+        tangent)."""
+        return None
+
+    @property
+    def length(self) -> float:
+        """Chord length of the main centreline (mm)."""
+        return self._tubes[0].end
+
+    def path(self, s: Any) -> tuple[FloatArray, FloatArray]:
+        """Points (m, 3) and unit tangents along the main centreline at ``s`` (mm from the entrance)."""
+        return self._tubes[0].path(np.atleast_1d(np.asarray(s, dtype=float)))
+
+    # -- the lumen -----------------------------------------------------------------------------------------------
+    def lumen_rows(self, points: FloatArray, radii: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Rows ``g ≥ 0`` for points (m, 3) of wire radii (m,): values, gradients (m, 3), Hessians (m, 3, 3)."""
+        p = np.ascontiguousarray(points, dtype=float)
+        r = np.broadcast_to(np.asarray(radii, dtype=float), (len(p),))
+        key = (p.tobytes(), r.tobytes())
+        memo = self._memo
+        if memo.get("key") != key:
+            best = None
+            for tube in self._tubes:
+                g, grad, hess, _ = tube.rows(p, r)
+                if best is None:
+                    best = [g, grad, hess]
+                else:
+                    better = g > best[0]
+                    best = [np.where(better, g, best[0]), np.where(better[:, None], grad, best[1]),
+                            np.where(better[:, None, None], hess, best[2])]
+            memo.clear()
+            memo.update(key=key, value=tuple(best))
+        return memo["value"]
+
+    def clearance(self, points: FloatArray, radii: FloatArray | float = 0.0) -> tuple[FloatArray, FloatArray]:
+        """``(D, n)``: the largest ``R(u) − r − |p − c(u)|`` over the tubes (mm, > 0 inside by that margin) and the
+        inward unit normal at each point (m, 3)."""
+        p = np.atleast_2d(np.asarray(points, dtype=float))
+        r = np.broadcast_to(np.asarray(radii, dtype=float), (len(p),))
+        best_d = np.full(len(p), -np.inf)
+        best_n = np.zeros((len(p), 3))
+        for tube in self._tubes:
+            e = tube.closest(p, r)
+            v = e.centre - p
+            dist = np.linalg.norm(v, axis=1)
+            d = e.radius - r - dist
+            n = v / np.where(dist > 0.0, dist, 1.0)[:, None]
+            better = d > best_d
+            best_d = np.where(better, d, best_d)
+            best_n = np.where(better[:, None], n, best_n)
+        return best_d, best_n
+
+    def centrelines(self, spacing: float = 1.0) -> list[FloatArray]:
+        """Sampled centrelines (main first) for drawing."""
+        out = []
+        for tube in self._tubes:
+            u = np.linspace(0.0, tube.end, max(2, int(math.ceil(tube.end / spacing)) + 1))
+            out.append(tube.evaluate(u).centre)
+        return out
+
+
+def _check_tube(tube: Tube, name: str) -> None:
+    """Refuse a bend tighter than the radius and a tube that comes back within its radius of itself."""
+    u = tube.u[tube.u <= tube.end]
+    e = tube.evaluate(u)
+    speed = np.linalg.norm(e.d1, axis=1)
+    kappa = np.linalg.norm(np.cross(e.d1, e.d2), axis=1) / speed**3
+    bend = kappa * e.radius
+    points = tube.points
+    worst = int(np.argmax(bend))
+    if bend[worst] >= BEND_LIMIT:
+        i = int(np.argmin(np.linalg.norm(points - e.centre[worst], axis=1)))
+        raise ValueError(f"{name} bends tighter than the lumen radius near point {i} {_fmt(points[i])}: bend radius "
+                         f"{1.0 / kappa[worst]:.3g} mm < radius {e.radius[worst]:.3g} mm, so the tube overlaps itself; "
+                         "smooth the bend (more, farther-spread points) or reduce the radius there.")
+    tree = cKDTree(e.centre)
+    pairs = tree.query_pairs(2.0 * float(e.radius.max()), output_type="ndarray")
+    if len(pairs):
+        i, j = pairs[:, 0], pairs[:, 1]
+        far = np.abs(u[i] - u[j]) > math.pi * np.maximum(e.radius[i], e.radius[j])
+        close = np.linalg.norm(e.centre[i] - e.centre[j], axis=1) < e.radius[i] + e.radius[j]
+        bad = np.flatnonzero(far & close)
+        if bad.size:
+            a, b = sorted((int(i[bad[0]]), int(j[bad[0]])))
+            pa = int(np.argmin(np.linalg.norm(points - e.centre[a], axis=1)))
+            pb = int(np.argmin(np.linalg.norm(points - e.centre[b], axis=1)))
+            raise ValueError(f"{name} comes back within the lumen radius of itself: near point {pa} "
+                             f"{_fmt(points[pa])} and point {pb} {_fmt(points[pb])} the tube overlaps itself; move "
+                             "those stretches apart or reduce the radius.")

@@ -124,12 +124,25 @@ class ConvexifiedExact:
 
     def model(self, ev: Evaluator, st: State) -> Any:
         lam = st.qp.lam_nl if st.qp is not None else self.lam0
-        self.rows = al_rows(self.problem, lam) if self.inequalities else self.problem.nonlinear.eq
+        self.rows = al_rows(self.problem, lam)
         W = ev.lagrangian_hessian(st.pt.x, lam)
         if ev.hessian_nonfinite is not None:
             return None
-        B, self.shift, self.weight = convexify(W, self.shift, equality_rows(self.problem, st.der.J, self.rows),
-                                               self.weight, self.definite, self.problem.equality_only)
+        shift, weight = self.shift, self.weight
+        if not self.inequalities and self.rows.size > self.problem.nonlinear.eq.size:
+            # the equalities alone first; the active inequalities too only when W is not positive definite on the
+            # equalities' null space (then the identity shift would be the alternative)
+            equalities = self.problem.nonlinear.eq
+            B, self.shift, self.weight = convexify(W, shift, equality_rows(self.problem, st.der.J, equalities),
+                                                   weight, self.definite, self.problem.equality_only)
+            if self.shift == 0.0:
+                self.rows = equalities
+                return self._keep(B)
+        B, self.shift, self.weight = convexify(W, shift, equality_rows(self.problem, st.der.J, self.rows),
+                                               weight, self.definite, self.problem.equality_only)
+        return self._keep(B)
+
+    def _keep(self, B: Any) -> Any:
         self.definite = self.shift == 0.0 and self.weight == 0.0
         self.factored = B if isinstance(B, FactoredHessian) else None
         return B

@@ -81,6 +81,36 @@ def tracked_frames(previous: Solution3D, scene: Scene3D) -> FloatArray:
     return quat.continuous(np.stack(quat.multiply(turn.T, carried.T), axis=1), base)
 
 
+STEP_MAX_ITER = 40
+"""Iterations a warm-started step may take before it is split in two (a converging step takes 3-8)."""
+
+MAX_HALVINGS = 5
+"""Splits of one step at most (down to 1/32 of it)."""
+
+
+def advance(scene: Scene3D, previous: Solution3D, length: float, turn: float, density: float,
+            options: dict[str, Any], depth: int = 0) -> Solution3D:
+    """The step from ``previous`` to ``(length, turn)``, split in halves (recursively, :data:`MAX_HALVINGS` times)
+    while a warm-started solve does not converge within :data:`STEP_MAX_ITER` iterations: a wire whose tip meets a
+    wall, or a J-tip that snaps, moves far in one step, and shorter steps keep each start near its answer. The
+    answer carries ``extras["substeps"]``, the number of solves it took."""
+    target = scene_at(scene, length, turn, density)
+    limit = min(int(options.get("max_iter", STEP_MAX_ITER)), STEP_MAX_ITER) if depth < MAX_HALVINGS else None
+    tries = dict(options, max_iter=limit) if limit is not None else options
+    sol = solve3d(target, initial_frames=tracked_frames(previous, target), **tries)
+    if sol.success or limit is None:
+        sol.extras["substeps"] = 1
+        return sol
+    before = float(np.sum(previous.lengths))
+    middle = advance(scene, previous, 0.5 * (before + length), 0.5 * (previous.base_rotation + turn), density,
+                     options, depth + 1)
+    if not middle.success:
+        return middle
+    sol = advance(scene, middle, length, turn, density, options, depth + 1)
+    sol.extras["substeps"] = middle.extras["substeps"] + sol.extras["substeps"]
+    return sol
+
+
 def insert3d(scene: Scene3D, lengths: Iterable[float], rotations: Iterable[float] | float | None = None, *,
              progress: Callable[[Solution3D, int, int], None] | None = None, **options: Any) -> Insertion3D:
     """Push, pull and turn the wire of ``scene`` through ``lengths`` (mm) and clamp ``rotations`` (rad).
@@ -127,9 +157,10 @@ def insert3d(scene: Scene3D, lengths: Iterable[float], rotations: Iterable[float
     error = None
     previous: Solution3D | None = None
     for i, (length, turn) in enumerate(zip(values, turns, strict=True)):
-        step_scene = scene_at(scene, length, turn, density)
-        frames = None if previous is None else tracked_frames(previous, step_scene)
-        sol = solve3d(step_scene, initial_frames=frames, **options)
+        if previous is None:
+            sol = solve3d(scene_at(scene, length, turn, density), **options)
+        else:
+            sol = advance(scene, previous, length, turn, density, options)
         steps.append(sol)
         if progress is not None:
             progress(sol, i, len(values))

@@ -15,8 +15,9 @@ Interior joint between bars ``k`` and ``k+1`` (both schemes)
     The clamp at the base is a full joint of weight ``ε`` between the base tangent ``θ_A`` and bar 1
     (``Δθ_1 = φ_1 − θ_A``, ``w = l_1``), as Eq. 16 counts ``Δθ_1`` from the base direction. A prescribed contact
     angle ``θ_H`` is imposed on the bar ending at the contact node, ``φ_H = θ_H`` (Eqs. 16–18): a linear equality
-    row in :mod:`guidewire.formulation`, not an energy term. Of the two readings of the paper this is the one that
-    reproduces its accuracy: mean node error 0.243 mm on Table 1 (θ_B = π/4, n = 100) and 0.257 mm over the five
+    row in :mod:`~guidewire.program.formulation`, not an energy term. Of the two readings of the paper this is
+    the one that reproduces its accuracy: mean node error 0.243 mm on Table 1 (θ_B = π/4, n = 100) and 0.257 mm over
+    the five
     θ_B, against the paper's 0.2556 mm vs ABAQUS (imposing θ_A on bar 1 as well gives 0.145 mm).
 
 ``scheme = "second_order"`` (default)

@@ -33,8 +33,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .chain import BarChain
-from .scene import Scene
+from .chain.kinematics import BarChain
+from .scene.scene import Scene
 
 FloatArray = NDArray[np.float64]
 
@@ -237,7 +237,7 @@ def least_bending(segments: list[Segment]) -> FloatArray:
     """``∫ θ'² ds`` (1/mm) of the least-bending closing start curve of each segment ``(p0, p1, a0, a1, ℓ)`` (all
     grids in one Newton iteration, :func:`_many_segment_curves`): ``inf`` where no curve closes, 0 for a nearly
     taut segment (its start is the chord or arc whatever the tangents). Used to compare trial tangents of a pose
-    (:mod:`guidewire.branches`)."""
+    (:mod:`guidewire.solve.branches`)."""
     out = np.zeros(len(segments))
     curved = [k for k, seg in enumerate(segments) if _curved(float(np.hypot(*(seg[1] - seg[0]))), float(seg[4]))]
     if curved:

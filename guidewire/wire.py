@@ -14,10 +14,10 @@ from .fields import real as _real
 from .fields import warn_diameter, warn_modulus
 
 SCHEMES = ("second_order", "paper")
-"""Discretisations of the bending energy; see :mod:`guidewire.formulation`."""
+"""Discretisations of the bending energy; see :mod:`guidewire.program.formulation`."""
 
 DENSITIES = ("uniform", "curvature")
-"""Bar layouts :func:`guidewire.solve` can choose (:mod:`guidewire.density`): equal bars within every piece, or bars
+"""Bar layouts :func:`guidewire.solve` can choose (:mod:`~.chain.density`): equal bars within every piece, or bars
 graded by the curvature of a coarse solve (the paper's closing "discrete density by curvature")."""
 
 LAYOUT_ROUNDING = 1e-9
@@ -124,14 +124,14 @@ class Wire:
         The paper's ``b₂`` (Eq. 19): ``|Δθ| ≤ b₂`` at every joint, in rad. None (default) adds no such rows. With a
         rest curvature it bounds the bend away from the rest shape, ``|Δθ − Δθ⁰| ≤ b₂``.
     scheme : {"second_order", "paper"}
-        Discretisation of the bending energy (see :mod:`guidewire.formulation`).
+        Discretisation of the bending energy (see :mod:`guidewire.program.formulation`).
     sections : sequence of Section
         Stretches with their own properties, listed from the tip (see :class:`Section`); empty (default) is the
         uniform wire. Sections longer in total than ``length`` are allowed: only the inserted part counts.
     density : {"uniform", "curvature"} or None
         How :func:`guidewire.solve` lays out the bars when ``bar_lengths`` is None: ``"uniform"`` (equal bars
         within every piece the contacts and sections cut, :func:`guidewire.chain.place_bars`), ``"curvature"``
-        (graded by a coarse solve's curvature, :mod:`guidewire.density`), or None (default): uniform for a given
+        (graded by a coarse solve's curvature, :mod:`guidewire.chain.density`), or None (default): uniform for a given
         bar count, curvature-graded when solving to a tolerance (``tol_mm``).
     bar_lengths : sequence of float or None
         Explicit bar lengths (mm, base first): ``bars`` positive values summing to ``length``, with a node at every

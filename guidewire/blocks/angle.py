@@ -12,7 +12,7 @@ import scipy.sparse as sp
 from .base import AngleRows, Block, FloatArray, Loads
 
 if TYPE_CHECKING:
-    from ..model import Model
+    from ..program.model import Model
 
 
 @dataclass(frozen=True)

@@ -1,8 +1,9 @@
 """What every constraint block has in common: its rows as data, its loads on the wire, its violation.
 
 A block is one kind of constraint of a scene (a contact position, a contact angle, a wall, the b₂ bound, …) written
-once as *rows*, in one of two forms that both program layouts know how to state (:mod:`guidewire.formulation` for the
-reduced program in the bar angles ``φ``, :mod:`guidewire.full_space` for angles and node positions):
+once as *rows*, in one of two forms that both program layouts know how to state
+(:mod:`~guidewire.program.formulation` for the reduced program in the bar angles ``φ``,
+:mod:`guidewire.program.full_space` for angles and node positions):
 
 :class:`NodeRows`
     ``lb ≤ d_r · p_{k_r} ≤ ub`` — linear in a node position ``p_k`` (mm), one direction ``d_r`` per row. Nonlinear
@@ -29,7 +30,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 if TYPE_CHECKING:
-    from ..model import Model
+    from ..program.model import Model
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int_]

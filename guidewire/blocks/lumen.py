@@ -30,7 +30,7 @@ import numpy as np
 from .base import Block, FloatArray, IntArray, Loads, NodeRows
 
 if TYPE_CHECKING:
-    from ..model import Model
+    from ..program.model import Model
 
 NEAR_BARS = 3.0
 """Nodes closer to touching the wall than this many bar lengths get a row."""

@@ -10,7 +10,7 @@ import numpy as np
 from .base import Block, FloatArray, IntArray, Loads, NodeRows
 
 if TYPE_CHECKING:
-    from ..model import Model
+    from ..program.model import Model
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,7 @@ import numpy as np
 from .base import AngleRows, Block
 
 if TYPE_CHECKING:
-    from ..model import Model
+    from ..program.model import Model
 
 
 @dataclass(frozen=True)

@@ -15,7 +15,7 @@ import numpy as np
 from .base import Block, FloatArray, IntArray, Loads, NodeRows
 
 if TYPE_CHECKING:
-    from ..model import Model
+    from ..program.model import Model
 
 WORKING_DISTANCE = 0.25
 """Nodes of the start closer to a wall than this fraction of the wire length get a wall row in the working set."""

@@ -18,12 +18,12 @@ from typing import Any
 
 import numpy as np
 
-from .feasibility import infeasibility
-from .paper import paper_groups
-from .reference import ContinuumReference, ContinuumShape, continuum_reference, nearest_shape, node_errors
-from .result import Solution
-from .scene import SCHEMES, Scene
-from .solve import solve
+from ..program.feasibility import infeasibility
+from ..reference import ContinuumReference, ContinuumShape, continuum_reference, nearest_shape, node_errors
+from ..scene.paper import paper_groups
+from ..scene.scene import SCHEMES, Scene
+from ..solve.front import solve
+from ..solve.result import Solution
 
 OVERLAID_GROUPS = ("fig4", "fig5")
 """Groups drawn as the paper does, all scenes in one panel (one panel per scheme); the others get a panel per scene."""

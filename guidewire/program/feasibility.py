@@ -1,5 +1,5 @@
 """Why a scene cannot be met, found before any solve: :func:`infeasibility` and :func:`check_feasible` (which
-:func:`guidewire.formulation.formulate` calls).
+:func:`guidewire.program.formulation.formulate` calls).
 
 Each check is a *necessary* condition for a wire shape to exist, so a scene it rejects has no solution; a scene it
 passes may still be infeasible in a way only the solver can tell (then the solve ends with a non-success status).
@@ -44,12 +44,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from .chain import scene_bars
-from .fields import fmt as _fmt
-from .fields import fmt_point as _fmt_point
+from ..chain.kinematics import scene_bars
+from ..fields import fmt as _fmt
+from ..fields import fmt_point as _fmt_point
 
 if TYPE_CHECKING:
-    from .scene import Scene
+    from ..scene.scene import Scene
 
 FloatArray = NDArray[np.float64]
 

@@ -9,10 +9,10 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from .chain import BarChain, scene_bars
-from .energy import EnergyTerms, bending_terms
-from .initial_shape import initial_angles as default_initial_angles
-from .scene import Scene
+from ..chain.kinematics import BarChain, scene_bars
+from ..energy import EnergyTerms, bending_terms
+from ..initial_shape import initial_angles as default_initial_angles
+from ..scene.scene import Scene
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int_]

@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from .insertion import Insertion
+from ..march.insertion import Insertion
 from .plot import FAILURE_COLOR, STRESS_CMAP, _matplotlib, draw_contact_forces, plot_panel
 
 

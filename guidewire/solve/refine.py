@@ -2,7 +2,7 @@
 
 The second-order scheme's node error falls as ``h²`` (tested on graded layouts too), so two solves with ``n`` and
 ``2n`` bars give a Richardson estimate of the finer one's error: with ``p_n(s)`` the coarse nodes and ``P_2n`` the
-fine wire (its interpolating cubic B-spline, :func:`guidewire.export.wire_spline`, whose own error is ``O(h⁴)``),
+fine wire (its interpolating cubic B-spline, :func:`guidewire.app.export.wire_spline`, whose own error is ``O(h⁴)``),
 
     e_2n ≈ mean_k |P_2n(s_k) − p_n(s_k)| / (2² − 1)
 
@@ -15,7 +15,7 @@ over the coarse nodes ``s_k``. The pair need not be uniform: any layout and the 
   is the previous fine solve and a new one with twice the bars);
 - ``density="curvature"`` (the default of ``solve(tol_mm=…)``): one uniform pair (``n₀``, ``2n₀``) gives a first
   estimate ``e``; as ``e ∝ n⁻²``, a pair of ``n = n₀·sqrt(e/tol_mm)·``:data:`SAFETY` and ``2n`` bars should meet
-  ``tol_mm``; that pair is laid out by the curvature of the last fine solve (:mod:`guidewire.density`: the graded
+  ``tol_mm``; that pair is laid out by the curvature of the last fine solve (:mod:`guidewire.chain.density`: the graded
   ``n``-bar layout and the same with every bar halved), solved, and estimated again, until the estimate is at most
   ``tol_mm``. The answer is the fine member of the last pair.
 
@@ -32,12 +32,12 @@ from typing import Any
 
 import numpy as np
 
-from .chain import piece_count
-from .density import curvature_density, graded_bars
-from .export import wire_spline
-from .fields import real
+from ..app.export import wire_spline
+from ..chain.density import curvature_density, graded_bars
+from ..chain.kinematics import piece_count
+from ..fields import real
+from ..scene.scene import Scene
 from .result import Solution
-from .scene import Scene
 
 START_BARS = 10
 """Bars of the first, coarsest solve (raised to two per piece the contacts and sections cut)."""
@@ -93,7 +93,7 @@ def solve_graded(scene: Scene, bars: int, *, start_bars: int = START_BARS, **opt
     Solution
         The graded solve, ``solve_time_s`` both solves together; a failed coarse solve is returned as it is.
     """
-    from .solve import solve
+    from .front import solve
 
     _check_options(options)
     start = time.perf_counter()
@@ -128,7 +128,7 @@ def solve_to_tolerance(scene: Scene, tol_mm: float, *, density: str = "curvature
         failed solve is returned as it is (its estimate nan); at ``max_bars`` the estimate may exceed ``tol_mm``,
         and ``message`` says so.
     """
-    from .solve import solve
+    from .front import solve
 
     tol_mm = real(tol_mm, "tol_mm", positive=True)
     if density not in ("curvature", "uniform"):

@@ -25,12 +25,12 @@ import numpy as np
 
 from sqp import installed_solvers
 
-from .scene import SCHEMES
-from .scene_file import load_scene
+from ..scene.file import load_scene
+from ..scene.scene import SCHEMES
 
 if TYPE_CHECKING:
-    from .result import Solution
-    from .scene import Scene
+    from ..scene.scene import Scene
+    from ..solve.result import Solution
 
 EXIT_OK, EXIT_NOT_CONVERGED, EXIT_BAD_INPUT = 0, 1, 2
 
@@ -235,7 +235,7 @@ def _check_size(args: argparse.Namespace, lengths: np.ndarray, bars_per_mm: floa
 
 
 def _insert(args: argparse.Namespace) -> int:
-    from .insertion import insert, step_flags, step_record
+    from ..march.insertion import insert, step_flags, step_record
 
     scene = _load(args.scene)
     first = scene.wire.length if args.start is None else args.start
@@ -283,7 +283,7 @@ def _insert(args: argparse.Namespace) -> int:
 
 
 def _solve(args: argparse.Namespace) -> int:
-    from .solve import solve
+    from ..solve import solve
 
     scene = _load(args.scene)
     for flag in ("json", "plot"):
@@ -307,7 +307,7 @@ def _solve(args: argparse.Namespace) -> int:
 
         reference = None
         if args.reference:
-            from .reference import continuum_reference
+            from ..reference import continuum_reference
 
             reference, why = continuum_reference(sol.scene)
             if reference is None:
@@ -354,7 +354,7 @@ def _interrupt(signum: int, frame: Any) -> None:
 
 def _batch(args: argparse.Namespace) -> int:
     """``batch``: every scene runs (a failure is a record), so the status is 0 unless the arguments are bad."""
-    from .batch import solve_files
+    from ..batch.scenes import solve_files
     from .export import read_records, save_shapes
 
     if args.workers is not None and args.scheduler is not None:

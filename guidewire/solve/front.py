@@ -12,10 +12,10 @@ from typing import Any
 
 import sqp
 
+from ..program.formulation import LAYOUTS, BlockMultipliers, Formulation, assemble, formulate
+from ..scene.scene import Scene
 from .branches import candidate_iterations, check_branches, lowest_branch
-from .formulation import LAYOUTS, BlockMultipliers, Formulation, assemble, formulate
 from .result import Solution, build_solution
-from .scene import Scene
 
 #: Rounds of the working set: solve, refine every block whose rows do not fit the answer (a wall: add the violating
 #: nodes and their neighbours; a lumen: move its tangent planes), solve again from the answer.
@@ -42,7 +42,7 @@ FALLBACK = "damped BFGS"
 
 def choose_layout(bars: int, hessian: str = "exact", scene: Scene | None = None) -> str:
     """What ``layout="auto"`` means: the reduced program (angles only) for contact scenes at every ``n`` and for
-    wall scenes up to :data:`FULL_SPACE_BARS` bars; the full-space one (:mod:`guidewire.full_space`: angles and
+    wall scenes up to :data:`FULL_SPACE_BARS` bars; the full-space one (:mod:`guidewire.program.full_space`: angles and
     nodes, every row sparse) for wall scenes above, with the exact Hessian.
 
     Contact scenes (no walls, no vessel) have equality-only subproblems with a few dense rows and a banded energy
@@ -132,11 +132,11 @@ def solve(
         ``"bfgs"``: the paper's damped BFGS (Eq. 6), started from the exact energy Hessian (``hess0``).
     layout : {"auto", "reduced", "full"}
         ``"reduced"``: the paper's program, bar angles only. ``"full"``: bar angles and node positions, closed by
-        sparse equalities (:mod:`guidewire.full_space`; exact Hessian only), O(n) per iteration. ``"auto"``
+        sparse equalities (:mod:`guidewire.program.full_space`; exact Hessian only), O(n) per iteration. ``"auto"``
         (default): :func:`choose_layout`. Both give the same shape and the same multipliers.
     multipliers0 : Solution, BlockMultipliers or sequence of arrays, optional
         Starting multipliers: a neighbouring :class:`Solution` or a
-        :class:`~guidewire.formulation.BlockMultipliers` (their blocks matched by kind, members and row, see
+        :class:`~guidewire.program.formulation.BlockMultipliers` (their blocks matched by kind, members and row, see
         :meth:`Formulation.multipliers0`), or one array per constraint block of this scene's formulation.
     qp_solver : str, optional
         qpsolvers backend, or None/"auto" (default) for :func:`sqp.minimize`'s choice by the program's structure.
@@ -144,17 +144,17 @@ def solve(
         Passed to :func:`sqp.minimize`.
     tol_mm : float, optional
         Solve to this estimated mean node error (mm) instead of with ``bars``: doubled layouts and a Richardson
-        estimate (:func:`guidewire.refine.solve_to_tolerance`); the answer carries ``error_estimate_mm``.
+        estimate (:func:`guidewire.solve.refine.solve_to_tolerance`); the answer carries ``error_estimate_mm``.
     density : {"uniform", "curvature"}, optional
         Bar layout; default ``scene.wire.density``. ``"curvature"``: the bars graded by the curvature of a coarse
-        solve (:mod:`guidewire.density`, :func:`guidewire.refine.solve_graded`); with ``tol_mm`` (where None means
+        solve (:mod:`~guidewire.chain.density`, :func:`.refine.solve_graded`); with ``tol_mm`` (where None means
         ``"curvature"``) graded pairs, ``"uniform"`` doubled uniform bars. Ignored when the wire has explicit
         ``bar_lengths``.
-    reuse : guidewire.model.ModelReuse, optional
+    reuse : guidewire.program.model.ModelReuse, optional
         Keep what the last scene formulated through it shares with ``scene`` (:func:`guidewire.solve_sequence`).
     branches : {"lowest", "first"}
         ``"lowest"`` (default): when the answer from the default start has a pose (the base or a contact with a
-        point) whose tangent is free, also solve from the mirror starts of :mod:`guidewire.branches` (that bow
+        point) whose tangent is free, also solve from the mirror starts of :mod:`guidewire.solve.branches` (that bow
         reflected about the chord between poses) and keep the lowest energy; ``Solution.starts`` counts the starts.
         Not with ``initial_angles``/``initial_nodes`` (a given start chooses its branch). ``"first"``: the default
         start's answer only.

@@ -1,6 +1,6 @@
 """The *full-space* layout: bar angles and node positions are both variables.
 
-Why. In the reduced layout (:mod:`guidewire.formulation`) the bar angles ``φ`` are the only variables, so a node
+Why. In the reduced layout (:mod:`guidewire.program.formulation`) the bar angles ``φ`` are the only variables, so a node
 position depends on every earlier angle: each position or wall row is a dense row of the Jacobian, and the
 augmented-Lagrangian convexification of the (indefinite, for a wire under compression) Lagrangian Hessian is dense.
 Here the nodes are variables too and the chain is closed by nonlinear equalities, one pair per bar, so every row has
@@ -42,10 +42,10 @@ from scipy.optimize import LinearConstraint
 
 import sqp
 
-from .blocks import AngleRows, Block, NodeRows
+from ..blocks import AngleRows, Block, NodeRows
+from ..scene.scene import Scene
 from .model import Model
 from .reduced import nonlinear_rows
-from .scene import Scene
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int_]

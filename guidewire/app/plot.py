@@ -17,8 +17,8 @@ import numpy as np
 
 import sqp
 
-from .result import Solution
-from .scene import Scene
+from ..scene.scene import Scene
+from ..solve.result import Solution
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -36,7 +36,7 @@ def _matplotlib() -> Any:
         import matplotlib
     except ImportError as exc:  # pragma: no cover - exercised only without the extra
         raise ImportError(
-            "guidewire.plot needs matplotlib: pip install 'guidewire-sqp[plot]'"
+            "guidewire.app.plot needs matplotlib: pip install 'guidewire-sqp[plot]'"
         ) from exc
     return matplotlib
 
@@ -228,7 +228,7 @@ def _fit_height(fig: Figure, ax: Axes) -> None:
 
 def status_name(status: int) -> str:
     """The name of a :attr:`Solution.status` code (an :class:`sqp.Status`, or SHAPE_REJECTED)."""
-    from .result import SHAPE_REJECTED
+    from ..solve.result import SHAPE_REJECTED
 
     if status == SHAPE_REJECTED:
         return "SHAPE_REJECTED"

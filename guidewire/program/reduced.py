@@ -25,8 +25,8 @@ from scipy.optimize import LinearConstraint, NonlinearConstraint
 
 from sqp.hessian import STRUCTURED_MIN
 
-from .blocks import AngleRows, Block, NodeRows
-from .chain import BarChain
+from ..blocks import AngleRows, Block, NodeRows
+from ..chain.kinematics import BarChain
 from .model import Model
 
 FloatArray = NDArray[np.float64]

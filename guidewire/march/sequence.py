@@ -10,11 +10,11 @@ from typing import Any
 
 import numpy as np
 
-from .formulation import BlockMultipliers
-from .model import ModelReuse
-from .result import Solution
-from .scene import Scene
-from .solve import solve
+from ..program.formulation import BlockMultipliers
+from ..program.model import ModelReuse
+from ..scene.scene import Scene
+from ..solve.front import solve
+from ..solve.result import Solution
 
 #: The predictor of :func:`solve_sequence` extrapolates along scene changes at least this parallel (cosine).
 SECANT_COSINE = 0.999
@@ -67,7 +67,7 @@ def solve_sequence(scenes: Iterable[Scene], **options: Any) -> SequenceResult:
     a quadratic through three when the last three changes are parallel, else the secant through two when the last
     two are, so the Newton corrector starts O(h³) (O(h²)) rather than O(h) from the answer: one SQP iteration per
     step on Table 1's sliding contact. Only successful answers of the same bar layout are extrapolated through.
-    What consecutive scenes share of their programs is built once (:class:`guidewire.model.ModelReuse`: the bar
+    What consecutive scenes share of their programs is built once (:class:`guidewire.program.model.ModelReuse`: the bar
     layout and the energy with its Hessian when only targets move), giving the same answers as building each step
     anew.
 

@@ -8,9 +8,9 @@ from concurrent.futures import Executor
 from dataclasses import replace
 from typing import Any
 
-from .batch import SceneError, _check_workers, run_tasks, slim
-from .insertion import Insertion, insert
-from .scene import Scene
+from ..march.insertion import Insertion, insert
+from ..scene.scene import Scene
+from .scenes import SceneError, _check_workers, run_tasks, slim
 
 InsertResult = Insertion | SceneError
 

@@ -4,8 +4,9 @@ A scene is what the paper's Tables 1, 2, 4 and 5 and Fig. 6 specify: a wire of i
 rigid bars (§2.1), a base at arc length ``s = 0`` (the vessel entrance, point ``A``/``O``), zero or more contacts at
 arc lengths ``s`` with a known position and/or tangent angle (§2.3.2), and zero or more straight walls (Eqs. 23–24).
 Every value is checked when it is built; a bad field raises ``ValueError``/``TypeError`` naming the field and the fix.
-Whether the contacts can be reached at all (:func:`guidewire.feasibility.check_feasible`) is a separate check, run
-before solving, so that an infeasible scene such as the printed Table 5 can still be held, drawn and reported.
+Whether the contacts can be reached at all (:func:`~guidewire.program.feasibility.check_feasible`) is a
+separate check, run before solving, so that an infeasible scene such as the printed Table 5 can still be held, drawn
+and reported.
 """
 
 from __future__ import annotations
@@ -15,13 +16,13 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from .chain import piece_count
-from .fields import fmt as _fmt
-from .fields import point as _point
-from .fields import real as _real
-from .fields import warn_angle
-from .vessel import Vessel
-from .wire import S_ROUNDING, SCHEMES, Section, Wire, WireProperties  # noqa: F401  (part of this module's API)
+from ..chain.kinematics import piece_count
+from ..fields import fmt as _fmt
+from ..fields import point as _point
+from ..fields import real as _real
+from ..fields import warn_angle
+from ..vessel.vessel import Vessel
+from ..wire import S_ROUNDING, SCHEMES, Section, Wire, WireProperties  # noqa: F401  (part of this module's API)
 
 
 @dataclass(frozen=True)

@@ -2,14 +2,14 @@
 
 ``formulate(scene, layout="reduced")`` — the paper's program: the bar angles ``φ`` (n,) are the variables
 (:class:`ReducedLayout`). ``layout="full"`` — bar angles and node positions, closed by sparse equalities
-(:mod:`guidewire.full_space`). Both state the same constraint blocks (:mod:`guidewire.blocks`: ``position``,
+(:mod:`guidewire.program.full_space`). Both state the same constraint blocks (:mod:`guidewire.blocks`: ``position``,
 ``angle``, ``wall``, ``relative_angle``, each present only when the scene needs it) with the same rows and the same
 multiplier signs (:mod:`guidewire.blocks.base`), so a solution reads the same whatever the layout.
 
 Objective: the bending energy of :mod:`guidewire.energy` (N·mm), quadratic in ``φ``; its exact constant Hessian is
 passed as ``hess0`` and returned by :meth:`Formulation.hess` (sparse: :mod:`sqp` decides how to store it).
 
-In the reduced layout (:mod:`guidewire.reduced`) a node-row block is an SLSQP dict or a ``NonlinearConstraint`` with
+In the reduced layout (:mod:`.reduced`) a node-row block is an SLSQP dict or a ``NonlinearConstraint`` with
 analytic ``jac`` and ``hess``; an angle-row block is a ``LinearConstraint``. No variable bounds.
 """
 
@@ -23,11 +23,11 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import LinearConstraint, NonlinearConstraint
 
-from .blocks import BLOCK_TYPES, AngleRows, Block, NodeRows, Rows
-from .blocks.base import row_violation
+from ..blocks import BLOCK_TYPES, AngleRows, Block, NodeRows, Rows
+from ..blocks.base import row_violation
+from ..scene.scene import SCHEMES, Scene
 from .model import Model, ModelReuse, build_model
 from .reduced import ReducedLayout
-from .scene import SCHEMES, Scene
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int_]
@@ -61,7 +61,7 @@ class Layout(Protocol):
 class BlockMultipliers(NamedTuple):
     """Multipliers of a neighbouring solve, one array per constraint block, with those blocks: what
     :meth:`Formulation.multipliers0` matches (``guidewire.solve(multipliers0=...)`` takes it as it takes a
-    :class:`~guidewire.result.Solution`)."""
+    :class:`~guidewire.solve.result.Solution`)."""
 
     blocks: tuple[Block, ...]
     multipliers: tuple[FloatArray, ...]
@@ -212,7 +212,7 @@ class Formulation:
 
     def answer(self, x: FloatArray, per_block: Sequence[FloatArray]) -> FloatArray:
         """The bar angles of the answer ``x`` (in the full space moved onto the active rows in the chain's own
-        kinematics, see :meth:`guidewire.full_space.FullLayout.answer`)."""
+        kinematics, see :meth:`guidewire.program.full_space.FullLayout.answer`)."""
         return self.layout.answer(self.blocks, x, per_block)
 
     def multipliers0(self, blocks: Sequence[Block], per_block: Sequence[Any]) -> list[FloatArray] | None:
@@ -262,7 +262,7 @@ def formulate(
     scene : Scene
     layout : {"reduced", "full"}
         The variables: bar angles only (the paper's program), or bar angles and node positions
-        (:mod:`guidewire.full_space`).
+        (:mod:`guidewire.program.full_space`).
     scheme : {"second_order", "paper"}, optional
         Overrides ``scene.wire.scheme``.
     bars : int, optional
@@ -278,10 +278,10 @@ def formulate(
         (``("wall", (j,))``) to nodes. :func:`guidewire.solve` uses ``"near"`` in the reduced layout and grows the
         set with every node found violating a wall.
     check : bool
-        Check the scene's feasibility first (:func:`guidewire.feasibility.check_feasible`).
+        Check the scene's feasibility first (:func:`guidewire.program.feasibility.check_feasible`).
     reuse : ModelReuse, optional
         Keep what the model of the scene formulated last through it shares with this one (bar layout, energy,
-        energy Hessian; see :class:`guidewire.model.ModelReuse`): the same formulation, built faster.
+        energy Hessian; see :class:`guidewire.program.model.ModelReuse`): the same formulation, built faster.
 
     Returns
     -------

@@ -37,10 +37,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .fields import fmt as _fmt
-from .fields import fmt_point as _fmt_point
-from .fields import warn_radius
-from .vessel_geometry import (  # noqa: F401  (the constants and Clearance are part of this module's API)
+from ..fields import fmt as _fmt
+from ..fields import fmt_point as _fmt_point
+from ..fields import warn_radius
+from .geometry import (  # noqa: F401  (the constants and Clearance are part of this module's API)
     BEND_LIMIT,
     HULL_SAMPLES,
     MEMO_SIZE,

@@ -1,5 +1,5 @@
 """The two kinds of lumen geometry behind :class:`guidewire.vessel.Vessel` — a tree of tubes, or the space between
-two walls — and the answers a vessel keeps (:class:`_Memo`). Built on :mod:`guidewire.vessel_curves`.
+two walls — and the answers a vessel keeps (:class:`_Memo`). Built on :mod:`guidewire.vessel.curves`.
 
 Units mm and rad; private to :mod:`guidewire.vessel`.
 """
@@ -14,8 +14,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
-from .fields import fmt_point as _fmt_point
-from .vessel_curves import (  # noqa: F401
+from ..fields import fmt_point as _fmt_point
+from .curves import (  # noqa: F401
     BEND_LIMIT,
     HULL_SAMPLES,
     NEWTON_STEPS,

@@ -14,7 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from .chain import _piece_ends
+from .kinematics import _piece_ends
 
 FloatArray = NDArray[np.float64]
 

@@ -57,8 +57,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from ..vessel.vessel import Branch, Vessel
 from .scene import Base, Contact, Scene, Section, Wall, Wire
-from .vessel import Branch, Vessel
 
 _TOP_KEYS = {"name", "notes", "wire", "base", "contact", "wall", "vessel"}
 _WIRE_KEYS = {"length", "bars", "youngs_modulus", "diameter", "moment_of_inertia", "max_relative_angle", "scheme",

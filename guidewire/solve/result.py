@@ -24,11 +24,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .blocks import Block, Loads
-from .crossing import crossing_bars
-from .formulation import Formulation
-from .scene import Scene
-from .scene_file import scene_to_dict
+from ..blocks import Block, Loads
+from ..chain.crossing import crossing_bars
+from ..program.formulation import Formulation
+from ..scene.file import scene_to_dict
+from ..scene.scene import Scene
 
 FloatArray = NDArray[np.float64]
 
@@ -115,7 +115,7 @@ class Solution:
     result : object
         The raw ``sqp`` result of the run that gave the answer (its ``x`` in that run's layout).
     layout : {"reduced", "full"}
-        The program that gave the answer (:func:`guidewire.formulation.formulate`).
+        The program that gave the answer (:func:`guidewire.program.formulation.formulate`).
     rounds : int
         Number of ``sqp.minimize`` runs (working-set rounds and fallback included).
     fallback : str or None
@@ -126,9 +126,9 @@ class Solution:
         Their multipliers, one array per block (:mod:`guidewire.blocks.base` sign convention), for warm starts
         (``solve(multipliers0=solution)``).
     error_estimate_mm : float or None
-        Estimated mean node error (mm) when solved with ``tol_mm`` (:mod:`guidewire.refine`), else None.
+        Estimated mean node error (mm) when solved with ``tol_mm`` (:mod:`guidewire.solve.refine`), else None.
     starts : int
-        Starts solved (:mod:`guidewire.branches`): 1, or 1 + the mirror starts tried where a free tangent left the
+        Starts solved (:mod:`guidewire.solve.branches`): 1, or 1 + the mirror starts tried where a free tangent left the
         branch in doubt. ``iterations`` and ``rounds`` are those of the start that gave the answer; ``solve_time_s``
         covers every start.
     """
@@ -230,7 +230,7 @@ class Solution:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready values (lists and numbers); ``units`` names the unit of every quantity, ``scene`` is the
-        scene's geometry as a scene file holds it (:func:`guidewire.scene_file.scene_to_dict`)."""
+        scene's geometry as a scene file holds it (:func:`guidewire.scene.file.scene_to_dict`)."""
         return {
             "units": UNITS, "scene": scene_to_dict(self.scene), "scheme": self.scheme, "bars": self.n_bars,
             "bar_lengths": np.diff(self.s).tolist(),
@@ -342,7 +342,7 @@ VIOLATION_FACTOR = 10.0
 def shape_defect(form: Formulation, phi: FloatArray, nodes: FloatArray, max_violation: float,
                  tol: float) -> str | None:
     """What a user would see wrong with a converged shape, or None: bars that cross each other
-    (:func:`guidewire.crossing.crossing_bars`), or a constraint violated beyond ``VIOLATION_FACTOR · tol · L``
+    (:func:`guidewire.chain.crossing.crossing_bars`), or a constraint violated beyond ``VIOLATION_FACTOR · tol · L``
     anywhere (walls and the lumen at every node, not only their working set), named by its block, node, arc length
     and excess."""
     crossing = crossing_bars(nodes)

@@ -18,12 +18,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .chain import scene_bars
-from .model import ModelReuse
-from .result import UNITS, Solution
-from .scene import Scene
-from .scene_file import scene_to_dict
-from .solve import solve
+from ..chain.kinematics import scene_bars
+from ..program.model import ModelReuse
+from ..scene.file import scene_to_dict
+from ..scene.scene import Scene
+from ..solve.front import solve
+from ..solve.result import UNITS, Solution
 
 FloatArray = NDArray[np.float64]
 
@@ -174,7 +174,7 @@ def insert(scene: Scene, lengths: Iterable[float], *, predictor: str = "track",
     **options
         Passed to :func:`guidewire.solve` (``hessian``, ``qp_solver``, ``tol``, ``max_iter``, ...); not ``bars``,
         ``initial_angles`` or ``multipliers0`` (the insertion sets them); ``reuse=None`` builds every step's program
-        anew (default: a :class:`guidewire.model.ModelReuse` shared by the steps).
+        anew (default: a :class:`guidewire.program.model.ModelReuse` shared by the steps).
 
     Returns
     -------

@@ -5,7 +5,7 @@ c₃ (1 − cos πu)`` (``u = s/L``, turning rate ``|dθ/du|`` at most :data:`MA
 at the bar midpoints. Two to six contacts sit on its nodes (position and tangent taken from the chain, some with the
 position only), optionally a wall the chain does not cross, optionally a b₂ the chain satisfies. The chain itself is
 then a feasible point, so the minimum of the scene cannot have a higher energy: a solve that ends above it found a
-higher local minimum (a *branch miss*, see :mod:`guidewire.branches`).
+higher local minimum (a *branch miss*, see :mod:`guidewire.solve.branches`).
 
 Contacts are at least :data:`MIN_GAP` of the wire apart (and from the base): closer contacts on a random curve make
 the energy landscape hold several nearby local minima.
@@ -23,8 +23,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from ..wire import Wire
 from .scene import Base, Contact, Scene, Wall
-from .wire import Wire
 
 FloatArray = NDArray[np.float64]
 

@@ -3,7 +3,7 @@
 A contact with a position and no tangent is a pin: the wire may pass it bowing either way, and the default start
 (:mod:`guidewire.initial_shape`) estimates the tangent there. Between two consecutive *poses* (the base and the
 contacts with a point) the wire bows to one side or the other, or makes an S; a local method (ours, like SLSQP or
-IPOPT) keeps the bow it starts with. Measured on 800 random generating-chain scenes (:mod:`guidewire.chain_scenes`,
+IPOPT) keeps the bow it starts with. Measured on 800 random generating-chain scenes (:mod:`guidewire.scene.generated`,
 ``benchmarks/branches.py``): the default start alone ends above the generating chain in 8 (1 %, up to 18 % more
 energy), every one of them next to a pin.
 
@@ -47,10 +47,10 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import NDArray
 
-from .chain import BarChain, scene_bars
-from .initial_shape import initial_angles, least_bending
+from ..chain.kinematics import BarChain, scene_bars
+from ..initial_shape import initial_angles, least_bending
+from ..scene.scene import Scene
 from .result import Solution
-from .scene import Scene
 
 FloatArray = NDArray[np.float64]
 

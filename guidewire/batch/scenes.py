@@ -36,10 +36,10 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from .result import Solution
-from .scene import Scene
-from .scene_file import load_scene
-from .solve import solve
+from ..scene.file import load_scene
+from ..scene.scene import Scene
+from ..solve.front import solve
+from ..solve.result import Solution
 
 #: Fields of the raw ``sqp`` result that a batch does not ship back (see the module docstring).
 SLIM_DROPPED = ("hess",)

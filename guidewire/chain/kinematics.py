@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 if TYPE_CHECKING:
-    from .scene import Scene, Wire
+    from ..scene.scene import Scene, Wire
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int_]

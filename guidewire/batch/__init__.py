@@ -1,0 +1,6 @@
+"""Many scenes or insertions at once on any executor (:mod:`.scenes`, :mod:`.insertions`)."""
+
+from .insertions import insert_many
+from .scenes import SceneError, solve_many
+
+__all__ = ["SceneError", "insert_many", "solve_many"]

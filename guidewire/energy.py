@@ -89,14 +89,16 @@ class EnergyTerms:
         return np.zeros(self.offset.size) if self.rest is None else self.rest
 
     @cached_property
-    def _coo(self) -> tuple[IntArray, IntArray, FloatArray]:
+    def coo(self) -> tuple[IntArray, IntArray, FloatArray]:
+        """The difference matrix ``D`` as (term row, bar column, coefficient) triplets: which bars each joint
+        term reads, used to evaluate the terms and to map them to the bars and nodes they involve."""
         D = self.matrix  # canonical CSR: the (row, column) order of ``tocoo``, without building the COO matrix
         rows = np.repeat(np.arange(D.shape[0], dtype=np.intp), np.diff(D.indptr))
         return rows, D.indices.astype(np.intp), D.data
 
     def joint_angles(self, phi: FloatArray) -> FloatArray:
         """``Δ_t = D_t φ − r_t`` in rad, shape (m,): the bend away from the rest shape (the elastic part)."""
-        rows, cols, data = self._coo
+        rows, cols, data = self.coo
         return np.bincount(rows, data * phi[cols], minlength=self.offset.size) - self.offset
 
     def value(self, phi: FloatArray) -> float:
@@ -106,7 +108,7 @@ class EnergyTerms:
 
     def gradient(self, phi: FloatArray) -> FloatArray:
         """``2 Dᵀ C (Dφ − r)``, shape (n,), N·mm/rad."""
-        rows, cols, data = self._coo
+        rows, cols, data = self.coo
         return np.bincount(cols, 2.0 * data * (self.weight * self.joint_angles(phi))[rows],
                            minlength=self.matrix.shape[1])
 
@@ -120,7 +122,7 @@ class EnergyTerms:
         D = self.matrix
         n = D.shape[1]
         counts = np.diff(D.indptr)
-        term, cols, data = self._coo
+        term, cols, data = self.coo
         w2 = 2.0 * self.weight
         diag = np.bincount(cols, w2[term] * data * data, minlength=n)
         touched = np.bincount(cols, minlength=n) > 0
@@ -146,7 +148,7 @@ class EnergyTerms:
     @property
     def row_sum(self) -> FloatArray:
         """``D_t 1`` per term: 0 for a joint between two bars, ±1 for a term with a prescribed tangent."""
-        rows, _, data = self._coo
+        rows, _, data = self.coo
         return np.bincount(rows, data, minlength=self.offset.size)
 
     def node_rows(self, n_nodes: int) -> tuple[sp.csr_matrix, FloatArray]:

@@ -262,3 +262,27 @@ def _bar_lengths(value: Any, bars: int, length: float) -> tuple[float, ...]:
         raise ValueError(f"wire.bar_lengths sum to {total:.12g} mm but wire.length is {length:.12g} mm; the bars "
                          "must cover the inserted wire exactly.")
     return tuple(float(v) for v in arr)
+
+
+def piece_ends(length: float, contact_s: NDArray[np.float64], breakpoints: Sequence[float]) -> NDArray[np.float64]:
+    """Increasing ends of the pieces: every contact, every breakpoint not within rounding of a contact or an end,
+    and ``L``."""
+    extra = np.asarray(breakpoints, dtype=float)
+    tol = BREAK_ROUNDING * length
+    marks = np.concatenate((contact_s, [0.0, length]))
+    keep = (extra > tol) & (extra < length - tol)
+    if marks.size and extra.size:
+        keep &= np.min(np.abs(extra[:, None] - marks[None, :]), axis=1) > tol
+    ends = np.unique(np.concatenate((contact_s, extra[keep], [length])))
+    return ends[ends <= length]
+
+
+BREAK_ROUNDING = 1e-12
+"""A breakpoint within this fraction of ``L`` of a contact or an end is that contact or end (no sliver bar)."""
+
+
+def piece_count(length: float, contact_s: Sequence[float], breakpoints: Sequence[float] = ()) -> int:
+    """Number of pieces the contacts and breakpoints cut a wire of ``length`` into (the fewest bars it needs)."""
+    if len(breakpoints) == 0:  # the distinct ends up to L among the contacts and L (what piece_ends counts)
+        return len({float(s) for s in contact_s if s <= length} | {float(length)})
+    return int(piece_ends(length, np.asarray(contact_s, dtype=float), breakpoints).size)

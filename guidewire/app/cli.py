@@ -27,6 +27,7 @@ from sqp import installed_solvers
 
 from ..scene.file import load_scene
 from ..scene.scene import SCHEMES
+from ..solve.options import MAX_ITER, TOL
 
 if TYPE_CHECKING:
     from ..scene.scene import Scene
@@ -127,8 +128,8 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--density", choices=("uniform", "curvature"), help="bar layout: equal bars per piece, or "
                      "graded by the curvature of a coarse solve (default: the file's wire.density)")
     _add_qp_solver(run)
-    run.add_argument("--max-iter", type=_positive_int, default=500, help="SQP iteration limit")
-    run.add_argument("--tol", type=float, default=1e-8, help="SQP tolerance")
+    run.add_argument("--max-iter", type=_positive_int, default=MAX_ITER, help="SQP iteration limit")
+    run.add_argument("--tol", type=float, default=TOL, help="SQP tolerance")
     run.add_argument("--reference", action="store_true", help="overlay the continuum reference in --plot")
     run.add_argument("--verbose", action="store_true", help="print the SQP iteration table")
     ins = sub.add_parser("insert", help="advance the wire of a scene quasi-statically (a vessel, walls, contacts)")
@@ -144,8 +145,8 @@ def build_parser() -> argparse.ArgumentParser:
     ins.add_argument("--yes", action="store_true", help=f"run even more than {MAX_STEPS} steps or a JSON file "
                      f"over {MAX_JSON_MB} MB")
     ins.add_argument("--quiet", action="store_true", help="no line per step (flagged steps are still printed)")
-    ins.add_argument("--max-iter", type=_positive_int, default=500, help="SQP iteration limit per step")
-    ins.add_argument("--tol", type=float, default=1e-8, help="SQP tolerance")
+    ins.add_argument("--max-iter", type=_positive_int, default=MAX_ITER, help="SQP iteration limit per step")
+    ins.add_argument("--tol", type=float, default=TOL, help="SQP tolerance")
     paper = sub.add_parser("paper", help="reproduce every scene of the paper (figures + table)")
     paper.add_argument("--out", type=Path, required=True, help="output directory")
     _add_qp_solver(paper)
@@ -162,8 +163,8 @@ def build_parser() -> argparse.ArgumentParser:
     batch.add_argument("--bars", type=_positive_int, help="number of bars (default: each file's)")
     batch.add_argument("--scheme", choices=SCHEMES, help="energy discretisation (default: each file's)")
     _add_qp_solver(batch)
-    batch.add_argument("--max-iter", type=_positive_int, default=500, help="SQP iteration limit")
-    batch.add_argument("--tol", type=float, default=1e-8, help="SQP tolerance")
+    batch.add_argument("--max-iter", type=_positive_int, default=MAX_ITER, help="SQP iteration limit")
+    batch.add_argument("--tol", type=float, default=TOL, help="SQP tolerance")
     batch.add_argument("--no-progress", action="store_true", help="no progress bar")
     return parser
 

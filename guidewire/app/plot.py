@@ -31,7 +31,7 @@ FAILURE_COLOR = "crimson"
 """Colour map of the bending stress (the paper's figures use a rainbow map)."""
 
 
-def _matplotlib() -> Any:
+def load_matplotlib() -> Any:
     try:
         import matplotlib
     except ImportError as exc:  # pragma: no cover - exercised only without the extra
@@ -105,7 +105,7 @@ def draw_solution(
     Each bar takes the larger stress of its two end nodes. ``reference`` (a continuum shape with ``.position(s)``)
     is drawn as a thin dashed black line on top.
     """
-    mpl = _matplotlib()
+    mpl = load_matplotlib()
     from matplotlib.collections import LineCollection
 
     segments = np.stack((solution.nodes[:-1], solution.nodes[1:]), axis=1)
@@ -198,7 +198,7 @@ def plot_panel(
 
 def plot_solution(solution: Solution, *, reference: Any = None, title: str | None = None) -> Figure:
     """A figure of one solved scene with a stress colour bar (MPa)."""
-    _matplotlib()
+    load_matplotlib()
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(6.0, 5.0), layout="constrained")
@@ -266,7 +266,7 @@ def plot_group(
         One panel per entry; several solutions in one panel are overlaid (Fig. 4 draws the five θ_B together).
     suptitle : str
     """
-    mpl = _matplotlib()
+    mpl = load_matplotlib()
     from matplotlib.figure import Figure
 
     stresses = [float(sol.bending_stress_mpa.max()) for _, sols, *_ in panels for sol in sols]

@@ -10,13 +10,13 @@ from typing import Any
 import numpy as np
 
 from ..march.insertion import Insertion
-from .plot import FAILURE_COLOR, STRESS_CMAP, _matplotlib, draw_contact_forces, plot_panel
+from .plot import FAILURE_COLOR, STRESS_CMAP, draw_contact_forces, load_matplotlib, plot_panel
 
 
 def plot_insertion(insertion: Insertion) -> Any:
     """Two panels: the last step's shape (stress colours, contact forces) and entrance force and energy against the
     inserted length (failed steps marked)."""
-    _matplotlib()
+    load_matplotlib()
     from matplotlib.figure import Figure
 
     steps = insertion.steps
@@ -57,7 +57,7 @@ def save_animation(insertion: Insertion, path: str | Path, *, fps: int = 10, dpi
     bar's), its contact-force arrows and its length. A failed step is drawn dashed in the failure colour, without
     stresses. All frames share the first one's palette.
     """
-    mpl = _matplotlib()
+    mpl = load_matplotlib()
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.collections import LineCollection
     from matplotlib.figure import Figure

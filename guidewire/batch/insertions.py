@@ -10,7 +10,7 @@ from typing import Any
 
 from ..march.insertion import Insertion, insert
 from ..scene.scene import Scene
-from .scenes import SceneError, _check_workers, run_tasks, slim
+from .scenes import SceneError, check_workers, run_tasks, slim
 
 InsertResult = Insertion | SceneError
 
@@ -54,7 +54,7 @@ def insert_many(
     for i, (scene, _) in enumerate(jobs):
         if not isinstance(scene, Scene):
             raise TypeError(f"jobs[{i}][0] is {type(scene).__name__}; expected guidewire.Scene.")
-    _check_workers(workers)
+    check_workers(workers)
     if executor is not None and workers is not None:
         raise ValueError("give workers (the size of the default process pool) or executor, not both.")
     scenes = [scene for scene, _ in jobs]

@@ -134,7 +134,7 @@ def default_executor(workers: int | None = None) -> ProcessPoolExecutor:
     BLAS threads only compete (measured on 2 cores, 100 bars: 2 workers with 2 BLAS threads each ran at 0.54× the
     serial throughput, with one thread each at about 2×), and ignores Ctrl-C (:func:`_worker_setup`).
     """
-    _check_workers(workers)
+    check_workers(workers)
     method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
     return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context(method),
                                initializer=_worker_setup)
@@ -183,7 +183,7 @@ def single_thread_blas() -> bool:
     return True
 
 
-def _check_workers(workers: Any) -> None:
+def check_workers(workers: Any) -> None:
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ValueError(f"workers is {workers!r}; expected a whole number of processes, at least 1.")
 
@@ -220,7 +220,7 @@ def solve_iter(
             raise TypeError(f"scenes[{i}] is {type(scene).__name__}; expected guidewire.Scene.")
     if isinstance(chunksize, bool) or not isinstance(chunksize, int) or chunksize < 1:
         raise ValueError(f"chunksize is {chunksize!r}; expected a whole number of scenes per task, at least 1.")
-    _check_workers(workers)
+    check_workers(workers)
     if executor is not None and workers is not None:
         raise ValueError("give workers (the size of the default process pool) or executor, not both.")
     if executor is not None and not callable(getattr(executor, "submit", None)):

@@ -14,7 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from .kinematics import _piece_ends
+from ..wire import piece_ends
 
 FloatArray = NDArray[np.float64]
 
@@ -56,7 +56,7 @@ def graded_bars(length: float, bars: int, contact_s: Sequence[float], breakpoint
     ndarray, shape (bars,)
         Bar lengths (mm), base first, summing to ``L``.
     """
-    ends = _piece_ends(length, np.asarray(contact_s, dtype=float), breakpoints)
+    ends = piece_ends(length, np.asarray(contact_s, dtype=float), breakpoints)
     starts = np.concatenate(([0.0], ends[:-1]))
     s_grid = np.asarray(s_grid, dtype=float)
     density = np.asarray(density, dtype=float)

@@ -28,34 +28,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 if TYPE_CHECKING:
-    from ..scene.scene import Scene, Wire
+    from ..scene.scene import Scene
+
+from ..wire import Wire, piece_ends
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int_]
-
-
-def _piece_ends(length: float, contact_s: FloatArray, breakpoints: Sequence[float]) -> FloatArray:
-    """Increasing ends of the pieces: every contact, every breakpoint not within rounding of a contact or an end,
-    and ``L``."""
-    extra = np.asarray(breakpoints, dtype=float)
-    tol = BREAK_ROUNDING * length
-    marks = np.concatenate((contact_s, [0.0, length]))
-    keep = (extra > tol) & (extra < length - tol)
-    if marks.size and extra.size:
-        keep &= np.min(np.abs(extra[:, None] - marks[None, :]), axis=1) > tol
-    ends = np.unique(np.concatenate((contact_s, extra[keep], [length])))
-    return ends[ends <= length]
-
-
-BREAK_ROUNDING = 1e-12
-"""A breakpoint within this fraction of ``L`` of a contact or an end is that contact or end (no sliver bar)."""
-
-
-def piece_count(length: float, contact_s: Sequence[float], breakpoints: Sequence[float] = ()) -> int:
-    """Number of pieces the contacts and breakpoints cut a wire of ``length`` into (the fewest bars it needs)."""
-    if len(breakpoints) == 0:  # the distinct ends up to L among the contacts and L (what _piece_ends counts)
-        return len({float(s) for s in contact_s if s <= length} | {float(length)})
-    return int(_piece_ends(length, np.asarray(contact_s, dtype=float), breakpoints).size)
 
 
 def place_bars(length: float, bars: int, contact_s: Sequence[float], breakpoints: Sequence[float] = (),
@@ -79,7 +57,7 @@ def place_bars(length: float, bars: int, contact_s: Sequence[float], breakpoints
         Strictly increasing contact arc lengths in ``(0, L]``.
     breakpoints : sequence of float
         Further arc lengths that must be nodes (section boundaries), mm; those outside ``(0, L)`` or within
-        :data:`BREAK_ROUNDING` of a contact are ignored.
+        :data:`~guidewire.wire.BREAK_ROUNDING` of a contact are ignored.
     pinned : sequence of bool or None
         Per contact: whether it prescribes a position (default: none does, no bridging).
 
@@ -91,7 +69,7 @@ def place_bars(length: float, bars: int, contact_s: Sequence[float], breakpoints
         Node index (0 = base, n = tip) of each contact.
     """
     s = np.asarray(contact_s, dtype=float)
-    ends = _piece_ends(length, s, breakpoints)
+    ends = piece_ends(length, s, breakpoints)
     seg = np.diff(np.concatenate(([0.0], ends)))
     if bars < seg.size:
         raise ValueError(f"bars is {bars} but there are {seg.size} pieces; use at least one bar per piece.")

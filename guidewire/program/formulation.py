@@ -26,6 +26,8 @@ from scipy.optimize import LinearConstraint, NonlinearConstraint
 from ..blocks import BLOCK_TYPES, AngleRows, Block, NodeRows, Rows
 from ..blocks.base import row_violation
 from ..scene.scene import SCHEMES, Scene
+from .feasibility import check_feasible
+from .full_space import FullLayout
 from .model import Model, ModelReuse, build_model
 from .reduced import ReducedLayout
 
@@ -304,8 +306,6 @@ def formulate(
     if initial_angles is not None and initial_nodes is not None:
         raise ValueError("pass initial_angles or initial_nodes, not both.")
     if check:
-        from .feasibility import check_feasible
-
         check_feasible(scene)
     model = build_model(scene, initial_angles, initial_nodes, reuse)
     working_set = _working_set(wall_nodes)
@@ -316,8 +316,6 @@ def formulate(
 def assemble(model: Model, layout: str, blocks: Sequence[Block]) -> Formulation:
     """The :class:`Formulation` of ``blocks`` on ``model`` in ``layout`` (e.g. after a block's working set grew)."""
     if layout == "full":
-        from .full_space import FullLayout
-
         lay: Any = FullLayout.build(model)
     else:
         lay = ReducedLayout(model)

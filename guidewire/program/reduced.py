@@ -4,7 +4,7 @@ nonlinear and dense.
 A node-row block is an SLSQP dict (``eq`` when every row is an equality, ``ineq`` ``d·p − lb ≥ 0`` when only lower
 bounds are finite, else a ``NonlinearConstraint``: :func:`nonlinear_rows`) with analytic ``jac`` (dense: a node
 depends on every earlier angle) and ``hess(φ, v)`` (diagonal for linear rows: a dense array up to
-:data:`sqp.hessian.STRUCTURED_MIN` variables, where the engine works densely anyway, a sparse one above); an
+:data:`sqp.STRUCTURED_MIN` variables, where the engine works densely anyway, a sparse one above); an
 angle-row block is a ``LinearConstraint``. No variable bounds.
 
 ``sqp`` evaluates every block at the same point (values, then Jacobians, then Hessians), so the chain's kinematics at
@@ -23,7 +23,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.optimize import LinearConstraint, NonlinearConstraint
 
-from sqp.hessian import STRUCTURED_MIN
+from sqp import STRUCTURED_MIN
 
 from ..blocks import AngleRows, Block, NodeRows
 from ..chain.kinematics import BarChain
@@ -58,7 +58,7 @@ class ChainPoint:
 
 
 def _diagonal(values: FloatArray) -> Any:
-    """A diagonal matrix: a dense array up to :data:`sqp.hessian.STRUCTURED_MIN` rows (``sqp`` densifies every
+    """A diagonal matrix: a dense array up to :data:`sqp.STRUCTURED_MIN` rows (``sqp`` densifies every
     Hessian there; building a scipy matrix costs more than writing the array), else a CSC matrix built directly
     (``scipy.sparse.diags`` costs ~1 ms a call; above ``STRUCTURED_MIN`` ``sqp`` keeps the sparse energy Hessian's
     format, for its structured KKT path)."""

@@ -16,13 +16,12 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from ..chain.kinematics import piece_count
 from ..fields import fmt as _fmt
 from ..fields import point as _point
 from ..fields import real as _real
 from ..fields import warn_angle
 from ..vessel.vessel import Vessel
-from ..wire import S_ROUNDING, SCHEMES, Section, Wire, WireProperties  # noqa: F401  (part of this module's API)
+from ..wire import S_ROUNDING, SCHEMES, Section, Wire, WireProperties, piece_count  # noqa: F401  (part of this module's API)
 
 
 @dataclass(frozen=True)

@@ -1,8 +1,8 @@
-"""Error-controlled refinement (issue 14, part 4, first step): solve to a mean node error ``tol_mm``.
+"""Error-controlled refinement: solve to a mean node error ``tol_mm``.
 
 The second-order scheme's node error falls as ``h²`` (tested on graded layouts too), so two solves with ``n`` and
 ``2n`` bars give a Richardson estimate of the finer one's error: with ``p_n(s)`` the coarse nodes and ``P_2n`` the
-fine wire (its interpolating cubic B-spline, :func:`guidewire.app.export.wire_spline`, whose own error is ``O(h⁴)``),
+fine wire (its interpolating cubic B-spline, :func:`guidewire.chain.spline.wire_spline`, whose own error is ``O(h⁴)``),
 
     e_2n ≈ mean_k |P_2n(s_k) − p_n(s_k)| / (2² − 1)
 
@@ -28,15 +28,16 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import replace
-from typing import Any
 
 import numpy as np
 
-from ..app.export import wire_spline
 from ..chain.density import curvature_density, graded_bars
-from ..chain.kinematics import piece_count
+from ..chain.spline import wire_spline
 from ..fields import real
 from ..scene.scene import Scene
+from ..wire import piece_count
+from .options import SolveOptions
+from .pipeline import run
 from .result import Solution
 
 START_BARS = 10
@@ -47,10 +48,6 @@ MAX_BARS = 2560
 
 SAFETY = 1.1
 """The predicted bar count of the next pair is raised by this factor (the estimate is itself an estimate)."""
-
-CHOSEN = ("bars", "initial_angles", "initial_nodes", "multipliers0", "tol_mm", "density")
-"""Options the refinement chooses itself."""
-
 
 def estimate_error(coarse: Solution, fine: Solution) -> float:
     """Richardson estimate (mm) of the mean node error of ``fine`` (twice the bars of ``coarse``), see the module
@@ -77,14 +74,7 @@ def _first_bars(scene: Scene, start_bars: int) -> int:
     return max(int(start_bars), 2 * pieces)
 
 
-def _check_options(options: dict[str, Any]) -> None:
-    for name in CHOSEN:
-        if options.get(name) is not None:
-            raise ValueError(f"{name} is chosen by the refinement; do not pass it with tol_mm or density='curvature'.")
-        options.pop(name, None)
-
-
-def solve_graded(scene: Scene, bars: int, *, start_bars: int = START_BARS, **options: Any) -> Solution:
+def solve_graded(scene: Scene, bars: int, options: SolveOptions, *, start_bars: int = START_BARS) -> Solution:
     """Solve ``scene`` with ``bars`` bars graded by curvature: a uniform coarse solve of
     ``max(start_bars, 2·pieces, bars // 2)`` bars (at most ``bars``), then :func:`graded_scene`.
 
@@ -93,20 +83,18 @@ def solve_graded(scene: Scene, bars: int, *, start_bars: int = START_BARS, **opt
     Solution
         The graded solve, ``solve_time_s`` both solves together; a failed coarse solve is returned as it is.
     """
-    from .front import solve
-
-    _check_options(options)
+    options.check()
     start = time.perf_counter()
-    coarse = solve(scene.with_wire(density="uniform", bar_lengths=None),
-                   bars=min(int(bars), max(_first_bars(scene, start_bars), int(bars) // 2)), **options)
+    coarse = run(scene.with_wire(density="uniform", bar_lengths=None),
+                 replace(options, bars=min(int(bars), max(_first_bars(scene, start_bars), int(bars) // 2))))
     if not coarse.success:
         return replace(coarse, solve_time_s=time.perf_counter() - start)
-    sol = solve(graded_scene(scene, coarse, int(bars)), **options)
+    sol = run(graded_scene(scene, coarse, int(bars)), options)
     return replace(sol, solve_time_s=time.perf_counter() - start)
 
 
-def solve_to_tolerance(scene: Scene, tol_mm: float, *, density: str = "curvature", start_bars: int = START_BARS,
-                       max_bars: int = MAX_BARS, **options: Any) -> Solution:
+def solve_to_tolerance(scene: Scene, tol_mm: float, options: SolveOptions, *, density: str = "curvature",
+                       start_bars: int = START_BARS, max_bars: int = MAX_BARS) -> Solution:
     """Solve ``scene`` with the fewest bars whose estimated mean node error is ≤ ``tol_mm`` (module docstring).
 
     Parameters
@@ -118,8 +106,8 @@ def solve_to_tolerance(scene: Scene, tol_mm: float, *, density: str = "curvature
         Graded pairs sized by the estimate's ``n⁻²`` (default), or doubled uniform bars.
     start_bars, max_bars : int
         First and largest bar counts.
-    **options
-        Passed to :func:`guidewire.solve` (not ``bars``, ``initial_angles``, ``initial_nodes``, ``multipliers0``).
+    options : SolveOptions
+        Of every solve (their ``bars`` and starts are chosen here).
 
     Returns
     -------
@@ -128,17 +116,15 @@ def solve_to_tolerance(scene: Scene, tol_mm: float, *, density: str = "curvature
         failed solve is returned as it is (its estimate nan); at ``max_bars`` the estimate may exceed ``tol_mm``,
         and ``message`` says so.
     """
-    from .front import solve
-
     tol_mm = real(tol_mm, "tol_mm", positive=True)
     if density not in ("curvature", "uniform"):
         raise ValueError(f"density is {density!r}; expected 'curvature' or 'uniform'.")
-    _check_options(options)
+    options.check()
     start = time.perf_counter()
     base = scene.with_wire(density="uniform", bar_lengths=None)
     n = _first_bars(scene, start_bars)
-    coarse = solve(base, bars=n, **options)
-    fine = solve(base, bars=2 * n, **options) if coarse.success else coarse
+    coarse = run(base, replace(options, bars=n))
+    fine = run(base, replace(options, bars=2 * n)) if coarse.success else coarse
     while True:
         if not (coarse.success and fine.success):
             failed = fine if coarse.success else coarse
@@ -152,9 +138,9 @@ def solve_to_tolerance(scene: Scene, tol_mm: float, *, density: str = "curvature
             return replace(fine, solve_time_s=time.perf_counter() - start, error_estimate_mm=estimate,
                            message=message)
         if density == "uniform":
-            coarse, fine = fine, solve(base, bars=2 * fine.n_bars, **options)
+            coarse, fine = fine, run(base, replace(options, bars=2 * fine.n_bars))
             continue
         n = max(coarse.n_bars + 1, math.ceil(coarse.n_bars * math.sqrt(estimate / tol_mm) * SAFETY))
         n = min(n, max_bars // 2)
-        coarse = solve(graded_scene(scene, fine, n), **options)
-        fine = solve(graded_scene(scene, fine, n, halve=True), **options) if coarse.success else coarse
+        coarse = run(graded_scene(scene, fine, n), options)
+        fine = run(graded_scene(scene, fine, n, halve=True), options) if coarse.success else coarse

@@ -29,6 +29,7 @@ from ..chain.crossing import crossing_bars
 from ..program.formulation import Formulation
 from ..scene.file import scene_to_dict
 from ..scene.scene import Scene
+from .options import TOL
 
 FloatArray = NDArray[np.float64]
 
@@ -289,7 +290,7 @@ def _node_geometry(form: Formulation, phi: FloatArray, elastic: FloatArray | Non
         if not (scene.contacts and form.contact_nodes[-1] == n and scene.contacts[-1].angle is not None):
             tangent[-1] += ends[1]
         fibre = props.youngs_modulus * 0.5 * props.diameter  # E·d/2 per bar
-        rows, cols, _ = energy._coo
+        rows, cols, _ = energy.coo
         term_fibre = np.zeros(energy.node.size)
         np.maximum.at(term_fibre, rows, fibre[cols])  # the larger of the term's bars
         stress_t = term_fibre * np.abs(elastic / energy.dual_length)
@@ -363,7 +364,7 @@ def shape_defect(form: Formulation, phi: FloatArray, nodes: FloatArray, max_viol
 
 def build_solution(form: Formulation, res: Any, solve_time_s: float, *, iterations: int | None = None,
                    rounds: int = 1, fallback: str | None = None, message: str | None = None,
-                   tol: float = 1e-8) -> Solution:
+                   tol: float = TOL) -> Solution:
     """Assemble a :class:`Solution` from the formulation and the ``sqp`` result ``res`` of its program.
 
     The bar angles are :meth:`Formulation.answer`. A converged run whose shape fails :func:`shape_defect` is

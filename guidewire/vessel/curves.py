@@ -68,7 +68,7 @@ class Clearance:
 
 # ----------------------------------------------------------------------------------------------------------------
 # validation of the data
-def _segments_cross(a0: FloatArray, a1: FloatArray, b0: FloatArray, b1: FloatArray) -> NDArray[np.bool_]:
+def segments_cross(a0: FloatArray, a1: FloatArray, b0: FloatArray, b1: FloatArray) -> NDArray[np.bool_]:
     """Whether segments ``a0a1`` and ``b0b1`` (broadcast) properly intersect or touch."""
 
     def orient(p: FloatArray, q: FloatArray, r: FloatArray) -> FloatArray:
@@ -79,11 +79,11 @@ def _segments_cross(a0: FloatArray, a1: FloatArray, b0: FloatArray, b1: FloatArr
     return (d1 * d2 <= 0.0) & (d3 * d4 <= 0.0) & ~((d1 == 0) & (d2 == 0) & (d3 == 0) & (d4 == 0))
 
 
-def _self_crossing(points: FloatArray) -> tuple[int, int] | None:
+def self_crossing(points: FloatArray) -> tuple[int, int] | None:
     """The first pair of non-adjacent segments of a polyline that cross, or None."""
     a0, a1 = points[:-1, None, :], points[1:, None, :]
     b0, b1 = points[None, :-1, :], points[None, 1:, :]
-    cross = _segments_cross(a0, a1, b0, b1)
+    cross = segments_cross(a0, a1, b0, b1)
     n = len(points) - 1
     i, j = np.triu_indices(n, k=2)
     hits = np.flatnonzero(cross[i, j])
@@ -92,7 +92,7 @@ def _self_crossing(points: FloatArray) -> tuple[int, int] | None:
 
 # ----------------------------------------------------------------------------------------------------------------
 # smooth curves
-class _Curve:
+class Curve:
     """A C² cubic spline ``c(u)`` through a polyline (chord-length parameter ``u``) with a PCHIP radius ``R(u)``.
 
     ``coef`` has shape (4, n − 1, 3): the cubic coefficients (highest degree first, as ``scipy.interpolate.PPoly``)
@@ -152,7 +152,7 @@ class _Curve:
         return np.asarray(self._u_of_s(np.clip(s, 0.0, self.length)), dtype=float)
 
 
-class _Tubes:
+class Tubes:
     """The closest-point machinery shared by tubes (``R > 0``, union of disks) and walls (``R ≡ 0``), vectorised over
     points and curves.
 
@@ -160,7 +160,7 @@ class _Tubes:
     steps) and compares it with the straight continuations of the curve past its open ends.
     """
 
-    def __init__(self, curves: Sequence[_Curve], *, head_open: Sequence[bool], tail_open: Sequence[bool],
+    def __init__(self, curves: Sequence[Curve], *, head_open: Sequence[bool], tail_open: Sequence[bool],
                  reach: float | Sequence[float] = math.inf) -> None:
         self.curves = tuple(curves)
         self.reach = np.broadcast_to(np.asarray(reach, dtype=float), (len(curves),)).copy()
@@ -341,14 +341,14 @@ class _Tubes:
         return value[:, :2] + value[:, 2:3] * e
 
 
-def _menger(a: FloatArray, b: FloatArray, c: FloatArray) -> FloatArray:
+def menger(a: FloatArray, b: FloatArray, c: FloatArray) -> FloatArray:
     """Signed curvature of the circle through ``a, b, c`` (> 0 turning left), elementwise."""
     ab, bc, ac = b - a, c - b, c - a
     cross = ab[:, 0] * bc[:, 1] - ab[:, 1] * bc[:, 0]
     return 2.0 * cross / (np.hypot(*ab.T) * np.hypot(*bc.T) * np.hypot(*ac.T))
 
 
-def _spacing(points: FloatArray, radius: FloatArray) -> float:
+def sample_spacing(points: FloatArray, radius: FloatArray) -> float:
     """Sampling spacing (mm) for a curve: ≤ SAMPLE_SPACING, a quarter of the least radius and of the least turn
     radius of the polyline (estimated from its turning angles)."""
     seg = np.diff(points, axis=0)

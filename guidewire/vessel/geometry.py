@@ -1,5 +1,5 @@
 """The two kinds of lumen geometry behind :class:`guidewire.vessel.Vessel` — a tree of tubes, or the space between
-two walls — and the answers a vessel keeps (:class:`_Memo`). Built on :mod:`guidewire.vessel.curves`.
+two walls — and the answers a vessel keeps (:class:`Memo`). Built on :mod:`guidewire.vessel.curves`.
 
 Units mm and rad; private to :mod:`guidewire.vessel`.
 """
@@ -15,20 +15,18 @@ from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
 from ..fields import fmt_point as _fmt_point
-from .curves import (  # noqa: F401
+from .curves import (
     BEND_LIMIT,
-    HULL_SAMPLES,
-    NEWTON_STEPS,
     SAMPLE_SPACING,
     TAIL_REACH,
     TAIL_REACH_RADII,
     Clearance,
-    _Curve,
-    _menger,
-    _segments_cross,
-    _self_crossing,
-    _spacing,
-    _Tubes,
+    Curve,
+    Tubes,
+    menger,
+    sample_spacing,
+    segments_cross,
+    self_crossing,
 )
 
 FloatArray = NDArray[np.float64]
@@ -37,10 +35,10 @@ Polyline = tuple[tuple[float, ...], ...]
 
 # ----------------------------------------------------------------------------------------------------------------
 MEMO_SIZE = 4
-"""Answers of :meth:`Vessel.clearance` a vessel keeps (see :class:`_Memo`)."""
+"""Answers of :meth:`Vessel.clearance` a vessel keeps (see :class:`Memo`)."""
 
 
-class _Memo:
+class Memo:
     """The last :data:`MEMO_SIZE` answers (least recently used dropped first) of :meth:`Vessel.clearance`, keyed by
     the points' exact bytes (and shape). It belongs to one vessel's geometry, which never changes, so an answer can
     never be stale; the answer's arrays are made read-only, since every caller shares them. Thread-safe.
@@ -80,8 +78,8 @@ class _Memo:
         return out
 
 
-class _TubeGeometry:
-    """The built geometry of a centreline vessel: the main tube and branches as one :class:`_Tubes`."""
+class TubeGeometry:
+    """The built geometry of a centreline vessel: the main tube and branches as one :class:`Tubes`."""
 
     def __init__(self, centreline: Polyline, radius: float | tuple[float, ...], branches: tuple[Any, ...]):
         # (branches: guidewire.vessel.Branch values)
@@ -91,19 +89,19 @@ class _TubeGeometry:
                    f"vessel.branch[{i}]") for i, b in enumerate(branches)]
         curves = []
         for points, rad, name in lines:
-            curve = _Curve(points, rad, spacing=_spacing(points, rad))
-            _check_bend(curve, points, name)
+            curve = Curve(points, rad, spacing=sample_spacing(points, rad))
+            check_bend(curve, points, name)
             curves.append(curve)
         self.main = curves[0]
         self.centre_curves = curves
-        self.answers = _Memo()
-        self.entrance = _entrance(self.main)
+        self.answers = Memo()
+        self.entrance = curve_entrance(self.main)
         # the entrance is capped (the first disk); branch junctions too (they lie inside the parent); far ends open
         reach = [max(TAIL_REACH, TAIL_REACH_RADII * float(c.radius[-1])) for c in curves]
-        self.tubes = _Tubes(curves, head_open=[False] * len(curves), tail_open=[True] * len(curves), reach=reach)
+        self.tubes = Tubes(curves, head_open=[False] * len(curves), tail_open=[True] * len(curves), reach=reach)
         self.varying = np.array([np.ptp(rad) > 0.0 for _, rad, _ in lines])
         if len(curves) > 1:
-            main_only = _Tubes(curves[:1], head_open=[False], tail_open=[True])
+            main_only = Tubes(curves[:1], head_open=[False], tail_open=[True])
             start = np.array([c.samples[0] for c in curves[1:]])
             best = main_only.closest(start)
             inside = best["radius"] - best["r"]
@@ -115,10 +113,10 @@ class _TubeGeometry:
                     )
 
     def best(self, p: FloatArray) -> tuple[dict[str, FloatArray], NDArray[np.intp]]:
-        """The closest-point answers of :meth:`_Tubes.closest_pairs` and, per point, the index into them of the tube
+        """The closest-point answers of :meth:`Tubes.closest_pairs` and, per point, the index into them of the tube
         with the largest signed distance (the first such tube on a tie, as ``argmax`` over all tubes).
 
-        The main tube is searched for every point; another tube only where :meth:`_Tubes.upper_bound` says it could
+        The main tube is searched for every point; another tube only where :meth:`Tubes.upper_bound` says it could
         beat the main one (a point in the aorta far from a branch never searches the branch): the same answer as
         searching every tube, at a fraction of the cost."""
         tubes = self.tubes
@@ -183,14 +181,14 @@ class _TubeGeometry:
             mid = np.clip(u[i], tubes.lo[kv] + h, tubes.hi[kv] - h)
             n = len(i)
             b = tubes.envelope(np.concatenate((mid - h, mid, mid + h)), np.tile(kv, 3), np.tile(side[i], 3))
-            curvature[i] = side[i] * _menger(b[:n], b[n:2 * n], b[2 * n:])
+            curvature[i] = side[i] * menger(b[:n], b[n:2 * n], b[2 * n:])
         cap = (source == 0) & (u <= tubes.lo[k]) & (e[:, 0] * tangent[:, 0] + e[:, 1] * tangent[:, 1] < 0.0)
         cap |= source == 3
         curvature = np.where(cap, -1.0 / radius, curvature)
         return Clearance(distance=radius - r, normal=e, boundary=boundary, curvature=curvature)
 
     def path(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
-        return _path(self.main, s)
+        return curve_path(self.main, s)
 
     def wall_lines(self) -> list[FloatArray]:
         out = []
@@ -201,7 +199,7 @@ class _TubeGeometry:
         return out
 
 
-def _path(curve: _Curve, s: FloatArray) -> tuple[FloatArray, FloatArray]:
+def curve_path(curve: Curve, s: FloatArray) -> tuple[FloatArray, FloatArray]:
     value, d1, _ = curve.evaluate(curve.u_of_s(s))
     points, angle = value[:, :2].copy(), np.arctan2(d1[:, 1], d1[:, 0])
     before, after = s < 0.0, s > curve.length
@@ -211,13 +209,13 @@ def _path(curve: _Curve, s: FloatArray) -> tuple[FloatArray, FloatArray]:
     return points, angle
 
 
-def _entrance(curve: _Curve) -> tuple[tuple[float, float], float]:
+def curve_entrance(curve: Curve) -> tuple[tuple[float, float], float]:
     """The entrance point (mm) and tangent angle (rad) of a main centreline (built once: a vessel never changes)."""
-    p, a = _path(curve, np.zeros(1))
+    p, a = curve_path(curve, np.zeros(1))
     return (float(p[0, 0]), float(p[0, 1])), float(a[0])
 
 
-def _check_bend(curve: _Curve, points: FloatArray, name: str) -> None:
+def check_bend(curve: Curve, points: FloatArray, name: str) -> None:
     """Refuse a tube that overlaps itself: a bend tighter than the radius, or two stretches closer than their radii."""
     bend = np.abs(curve.kappa) * curve.radius
     worst = int(np.argmax(bend))
@@ -245,34 +243,34 @@ def _check_bend(curve: _Curve, points: FloatArray, name: str) -> None:
             )
 
 
-def _nearest_point(curve: _Curve, sample: int) -> int:
+def _nearest_point(curve: Curve, sample: int) -> int:
     """The centreline point nearest to a curve sample *along the curve* (by the spline's parameter): where the tube
     comes back onto itself the two samples lie at one place, and the nearest point in space would name one point
     twice."""
     return int(np.argmin(np.abs(curve.breaks - curve.u[sample])))
 
 
-class _WallGeometry:
+class WallGeometry:
     """The built geometry of a two-wall vessel: each wall a spline continued straight past both ends."""
 
     def __init__(self, walls: tuple[Polyline, Polyline]):
         arrays = [np.asarray(w, dtype=float) for w in walls]
         for i, a in enumerate(arrays):
-            hit = _self_crossing(a)
+            hit = self_crossing(a)
             if hit is not None:
                 raise ValueError(
                     f"vessel.walls[{i}] crosses itself: its segments {hit[0]} and {hit[1]} (points "
                     f"{hit[0]}–{hit[0] + 1} and {hit[1]}–{hit[1] + 1}) intersect; give a simple polyline."
                 )
         a, b = arrays
-        cross = _segments_cross(a[:-1, None], a[1:, None], b[None, :-1], b[None, 1:])
+        cross = segments_cross(a[:-1, None], a[1:, None], b[None, :-1], b[None, 1:])
         if cross.any():
             i, j = np.argwhere(cross)[0]
             raise ValueError(f"vessel.walls[0] segment {i} crosses vessel.walls[1] segment {j}; the two walls must not "
                              "meet (the lumen lies between them).")
         width = float(np.hypot(*(a[0] - b[0])))
-        curves = [_Curve(w, np.zeros(len(w)), spacing=min(_spacing(w, np.zeros(0)), 0.25 * width)) for w in arrays]
-        self.tubes = _Tubes(curves, head_open=[True, True], tail_open=[True, True])
+        curves = [Curve(w, np.zeros(len(w)), spacing=min(sample_spacing(w, np.zeros(0)), 0.25 * width)) for w in arrays]
+        self.tubes = Tubes(curves, head_open=[True, True], tail_open=[True, True])
         # which side of each wall the lumen is on (+1 left): the side of the other wall's first point
         self.side = np.empty(2)
         for i, (own, other) in enumerate(((a, b), (b, a))):
@@ -283,15 +281,15 @@ class _WallGeometry:
             raise ValueError("vessel.walls start at the same point; the entrance needs two distinct wall points.")
         # the midline: points at equal fractions of both walls' arc lengths, averaged; radius half their distance
         frac = np.linspace(0.0, 1.0, 201)
-        pa, _ = _path(curves[0], frac * curves[0].length)
-        pb, _ = _path(curves[1], frac * curves[1].length)
+        pa, _ = curve_path(curves[0], frac * curves[0].length)
+        pb, _ = curve_path(curves[1], frac * curves[1].length)
         mid = 0.5 * (pa + pb)
         keep = np.concatenate(([True], np.hypot(*np.diff(mid, axis=0).T) > 1e-9))
         half = 0.5 * np.hypot(*(pa - pb).T)
-        self.main = _Curve(mid[keep], half[keep], spacing=SAMPLE_SPACING)
+        self.main = Curve(mid[keep], half[keep], spacing=SAMPLE_SPACING)
         self.centre_curves = [self.main]
-        self.answers = _Memo()
-        self.entrance = _entrance(self.main)
+        self.answers = Memo()
+        self.entrance = curve_entrance(self.main)
 
     def clearance(self, p: FloatArray) -> Clearance:
         tubes = self.tubes
@@ -312,7 +310,7 @@ class _WallGeometry:
         return np.zeros(len(p), dtype=bool)
 
     def path(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
-        return _path(self.main, s)
+        return curve_path(self.main, s)
 
     def wall_lines(self) -> list[FloatArray]:
         return [c.samples.copy() for c in self.tubes.curves]

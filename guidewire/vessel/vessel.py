@@ -20,8 +20,8 @@ Units mm and rad throughout. Two ways to give a lumen:
 boundary point and the boundary's curvature there (see :class:`Clearance`). The closest centreline parameter is found
 by a k-d tree on a fine sampling cached at construction and polished by Newton steps on the spline, all vectorised.
 A branch is searched only for the points a cheap bound says it could be nearer than the main tube for
-(:meth:`_TubeGeometry.best`: the same answer as searching every tube), and a vessel keeps its last few answers
-(:class:`_Memo`, exact: keyed by the points' coordinates; a vessel never changes).
+(:meth:`TubeGeometry.best`: the same answer as searching every tube), and a vessel keeps its last few answers
+(:class:`Memo`, exact: keyed by the points' coordinates; a vessel never changes).
 
 Only 2-D is built; the data model (tuples of coordinates) admits any dimension so that 3-D can follow.
 """
@@ -40,28 +40,8 @@ from numpy.typing import ArrayLike, NDArray
 from ..fields import fmt as _fmt
 from ..fields import fmt_point as _fmt_point
 from ..fields import warn_radius
-from .geometry import (  # noqa: F401  (the constants and Clearance are part of this module's API)
-    BEND_LIMIT,
-    HULL_SAMPLES,
-    MEMO_SIZE,
-    NEWTON_STEPS,
-    SAMPLE_SPACING,
-    TAIL_REACH,
-    TAIL_REACH_RADII,
-    Clearance,
-    _check_bend,
-    _Curve,
-    _entrance,
-    _Memo,
-    _menger,
-    _path,
-    _segments_cross,
-    _self_crossing,
-    _spacing,
-    _TubeGeometry,
-    _Tubes,
-    _WallGeometry,
-)
+from .curves import Clearance
+from .geometry import TubeGeometry, WallGeometry
 
 FloatArray = NDArray[np.float64]
 Polyline = tuple[tuple[float, ...], ...]
@@ -226,7 +206,7 @@ class Vessel:
             walls = tuple(_polyline(w, f"vessel.walls[{i}]") for i, w in enumerate(self.walls))
             object.__setattr__(self, "walls", walls)
             object.__setattr__(self, "radius", 0.0)
-            object.__setattr__(self, "_geometry", _WallGeometry(walls))
+            object.__setattr__(self, "_geometry", WallGeometry(walls))
             return
         if isinstance(self.centreline, Sequence) and len(self.centreline) == 0:
             raise ValueError("vessel has no centreline and no walls; give `centreline = [[x, y], ...]` with `radius`, "
@@ -241,7 +221,7 @@ class Vessel:
         object.__setattr__(self, "centreline", centreline)
         object.__setattr__(self, "radius", radius)
         object.__setattr__(self, "branches", tuple(branches))
-        object.__setattr__(self, "_geometry", _TubeGeometry(centreline, radius, tuple(branches)))
+        object.__setattr__(self, "_geometry", TubeGeometry(centreline, radius, tuple(branches)))
 
     def __getstate__(self) -> dict[str, Any]:
         return {"centreline": self.centreline, "radius": self.radius, "branches": self.branches, "walls": self.walls}

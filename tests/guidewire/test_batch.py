@@ -16,9 +16,10 @@ from scipy.interpolate import BSpline
 
 import guidewire
 from guidewire import SceneError, solve, solve_many
-from guidewire.app import cli, export
+from guidewire.app import cli
 from guidewire.app.export import load_shapes, read_records, save_shapes, wire_spline
 from guidewire.batch.scenes import done_files, slim, solve_files, solve_iter, solve_one
+from guidewire.chain import spline as spline_module
 from guidewire.scene.paper import paper_scenes, scene_path
 
 INFEASIBLE = "table5"
@@ -279,7 +280,7 @@ def test_spline_export_reproduces_the_nodes(tmp_path, serial, monkeypatch):
         assert length == pytest.approx(sol.scene.wire.length, rel=1e-2)  # ≤ 0.6 % longer here
     # the older scipy path (splprep) gives the same spline
     modern = wire_spline(solved[0].nodes, solved[0].s)
-    monkeypatch.setattr(export, "make_splprep", None)
+    monkeypatch.setattr(spline_module, "make_splprep", None)
     legacy = wire_spline(solved[0].nodes, solved[0].s)
     assert np.array_equal(legacy.knots, modern.knots)
     assert np.allclose(legacy.coefficients, modern.coefficients, rtol=0, atol=1e-9)

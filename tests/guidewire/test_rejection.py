@@ -55,7 +55,7 @@ def test_a_vessel_too_large_for_memory_is_refused_before_any_work(monkeypatch, c
 
     from guidewire.app import cli
 
-    front = importlib.import_module("guidewire.solve.front")
+    front = importlib.import_module("guidewire.solve.options")
 
     monkeypatch.setattr(front, "available_memory", lambda: int(available_gib * 2**30))
     scene = guidewire.load_scene(str(VESSELS / "bend.toml"))

@@ -7,8 +7,9 @@
 
 The package reads from values to answers; each folder imports only from those above it:
 
-- :mod:`~guidewire.fields`, :mod:`~guidewire.wire`, :mod:`~guidewire.energy`, :mod:`~guidewire.initial_shape`: checked
-  values, the wire, its bending energy and start shapes (shared by the planar model and the 3D rod);
+- :mod:`~guidewire.fields`, :mod:`~guidewire.wire`, :mod:`~guidewire.energy`, :mod:`~guidewire.initial_shape`,
+  :mod:`~guidewire.status`: checked values, the wire, its bending energy, start shapes and why a solve ended (shared
+  by the planar model and the 3D rod);
 - :mod:`~guidewire.chain` (bar layouts, kinematics, density), :mod:`~guidewire.vessel` (lumens),
   :mod:`~guidewire.scene` (what is solved, TOML files, the paper's scenes);
 - :mod:`~guidewire.blocks` (one type per constraint kind), :mod:`~guidewire.program` (a scene as a nonlinear
@@ -24,6 +25,7 @@ from .march import Insertion, SequenceResult, insert, solve_sequence
 from .program import Formulation, formulate
 from .scene import Base, Contact, Scene, Section, Wall, Wire, load_scene, paper_groups, paper_scenes, scene_to_toml
 from .solve import Reaction, Solution, solve
+from .status import Status
 from .vessel import Branch, Clearance, Vessel
 
 __all__ = [
@@ -39,6 +41,7 @@ __all__ = [
     "Section",
     "SequenceResult",
     "Solution",
+    "Status",
     "Vessel",
     "Wall",
     "Wire",

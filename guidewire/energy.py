@@ -242,7 +242,7 @@ def bending_terms(
     data = np.broadcast_to(np.array([-1.0, 1.0]), has.shape)[has]
     matrix = sp.csr_matrix((data, indices, indptr), shape=(node.size, n))
     if np.ndim(stiffness) == 0:
-        weight = float(stiffness) / (2.0 * dual)  # the uniform wire, exactly as before
+        weight = float(stiffness) / (2.0 * dual)  # the uniform wire: EI / (2 w) on every joint
     else:
         ei = np.asarray(stiffness, dtype=float)
         both = (left >= 0) & (right >= 0)

@@ -15,10 +15,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-import sqp
-
 from ..scene.scene import Scene
 from ..solve.result import Solution
+from ..status import Status
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -227,13 +226,9 @@ def _fit_height(fig: Figure, ax: Axes) -> None:
 
 
 def status_name(status: int) -> str:
-    """The name of a :attr:`Solution.status` code (an :class:`sqp.Status`, or SHAPE_REJECTED)."""
-    from ..solve.result import SHAPE_REJECTED
-
-    if status == SHAPE_REJECTED:
-        return "SHAPE_REJECTED"
+    """The name of a :attr:`Solution.status` code (a :class:`guidewire.Status`)."""
     try:
-        return sqp.Status(status).name
+        return Status(status).name
     except ValueError:
         return str(status)
 

@@ -134,6 +134,13 @@ def row_violation(values: FloatArray, lb: FloatArray, ub: FloatArray) -> FloatAr
     return np.maximum(np.maximum(lb - values, values - ub), 0.0)
 
 
+def grown_by_neighbours(nodes: IntArray, violated: IntArray, n: int) -> IntArray:
+    """``nodes`` with every ``violated`` node and its two neighbours added (nodes 1..n), sorted: how a block with a
+    node working set grows when the answer violates it."""
+    extra = np.clip(np.concatenate([violated - 1, violated, violated + 1]), 1, n)
+    return np.union1d(nodes, extra)
+
+
 @dataclass(frozen=True)
 class Block:
     """One constraint block: a kind, what it constrains, and its rows (see the module docstring).
@@ -214,6 +221,16 @@ class Block:
         its linearisation moved to ``phi`` — or None when its rows are right at ``phi`` (default: always right).
         :func:`guidewire.solve` solves again from ``phi`` while any block refines."""
         return None
+
+    def contact_normals(self, scene: Any) -> FloatArray | None:
+        """Outward unit normals (shape (rows, 2)) of a block whose multipliers are normal contact forces at its
+        nodes (walls, lumens), for :meth:`Solution.contacts`; None for the other kinds (default)."""
+        return None
+
+    def advanced(self, bars: int) -> Block:
+        """This block on the same wire ``bars`` bars longer at the entrance (insertion's warm start): rows that
+        follow the material move ``bars`` nodes on (walls, lumens); contact and angle rows stay (default)."""
+        return self
 
     def with_index(self, index: int) -> Block:
         return replace(self, index=index)

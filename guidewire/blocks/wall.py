@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from .base import Block, FloatArray, IntArray, Loads, NodeRows
+from .base import Block, FloatArray, IntArray, Loads, NodeRows, grown_by_neighbours
 
 if TYPE_CHECKING:
     from ..program.model import Model
@@ -85,6 +85,12 @@ class Wall(Block):
         violated = np.flatnonzero(self.gaps(model, model.chain.nodes(phi)) < -tolerance) + 1
         if not violated.size:
             return None
-        extra = np.clip(np.concatenate([violated - 1, violated, violated + 1]), 1, model.n)
-        nodes = np.union1d(self.nodes, extra)
+        nodes = grown_by_neighbours(self.nodes, violated, model.n)
         return None if nodes.size == self.nodes.size else replace(self, nodes=nodes)
+
+    def contact_normals(self, scene: Any) -> FloatArray:
+        normal, _ = scene.walls[self.members[0]].unit()
+        return np.tile(np.asarray(normal, dtype=float), (self.size, 1))
+
+    def advanced(self, bars: int) -> Block:
+        return replace(self, nodes=self.nodes + bars)

@@ -1,4 +1,4 @@
-"""Bar layouts graded by a density: the paper's "discrete density by curvature" (issue 14, part 4).
+"""Bar layouts graded by a density: the paper's "discrete density by curvature" (its closing paragraph).
 
 Layout. Given a positive density ``ρ(s)`` (bars per mm, up to a factor) and ``n`` bars, :func:`graded_bars` shares
 the bars out over the pieces that the contacts and section boundaries cut (in proportion to ``∫ρ`` over each piece,

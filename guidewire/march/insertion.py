@@ -63,7 +63,7 @@ class Insertion:
 
 
 def step_record(sol: Solution) -> dict[str, Any]:
-    """One insertion step as JSON-ready values (the keys of the vessel issue's ``insert`` output)."""
+    """One insertion step as JSON-ready values (the keys of ``python -m guidewire insert``'s JSON lines)."""
     tip_angle = float(sol.tangent_angles[-1])
     return {
         "inserted_length": float(sol.scene.wire.length), "bars": sol.n_bars, "success": sol.success,
@@ -115,7 +115,7 @@ def _advanced_multipliers(prev: Solution, bars: int) -> Solution:
     """The previous step as a warm start for the multipliers: node rows (walls, lumen) moved with the material, by
     the number of bars inserted (contacts and angle rows stay with their contact)."""
     shift = bars - prev.n_bars
-    moved = tuple(replace(b, nodes=b.nodes + shift) if b.kind in ("wall", "lumen") else b for b in prev.blocks)
+    moved = tuple(b.advanced(shift) for b in prev.blocks)
     return replace(prev, blocks=moved)
 
 

@@ -15,10 +15,10 @@ tangents prescribed). A reflection that moves no tangent by more than :data:`SAM
 is skipped. Each candidate is solved (at most :func:`candidate_iterations` iterations: a lower branch converges
 about as fast as the first, a failing one is cut short) and the lowest energy kept, lower by more than
 :data:`ENERGY_TIE` (relative) to replace an earlier answer; a failed or shape-rejected candidate never replaces a
-success. Scenes whose tangents are all prescribed (every paper scene) solve once, as before, and so do answers
-from the full-space layout (wall scenes above 300 bars): there a candidate solved from a given start took 9 s where
-the first solve took 0.17 s (two contacts 0.5 mm apart, 400 bars; not yet understood), so the multi-start is limited
-to the reduced program for now.
+success. Scenes whose tangents are all prescribed (every paper scene) solve once, and so do answers from the
+full-space layout (wall scenes above 300 bars): there a candidate solved from a given start can take far longer than
+the first solve (9 s against 0.17 s measured on two contacts 0.5 mm apart at 400 bars), so the multi-start is
+limited to the reduced program.
 
 A mirror start changes a tangent's side of the chord; a branch can also differ in *how far* a free tangent turns. On
 a hand-written scene (a 70 mm wire pinned at s = 40 mm and clamped at its tip 15.7 mm from the pin) the default start

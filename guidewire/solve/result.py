@@ -29,6 +29,7 @@ from ..chain.crossing import crossing_bars
 from ..program.formulation import Formulation
 from ..scene.file import scene_to_dict
 from ..scene.scene import Scene
+from ..status import SHAPE_REJECTED, Status
 from .options import TOL
 
 FloatArray = NDArray[np.float64]
@@ -104,8 +105,8 @@ class Solution:
     wall_forces : ndarray, shape (n + 1, 2), or None
         Total force of the walls on each node (N); None after a failed solve.
     success, status, message :
-        The verdict: ``status`` the ``sqp`` status code of the run that gave the answer, or
-        :data:`SHAPE_REJECTED` when that run converged but the shape fails a check a user would see (bars crossing
+        The verdict: ``status`` a :class:`guidewire.Status`, the ``sqp`` status of the run that gave the answer,
+        or ``SHAPE_REJECTED`` when that run converged but the shape fails a check a user would see (bars crossing
         each other, a node outside a wall); ``message`` says which, followed by what the fallback did when one ran.
     iterations : int
         SQP iterations summed over every run: every working-set round and the fallback.
@@ -147,7 +148,7 @@ class Solution:
     reactions: tuple[Reaction, ...]
     wall_forces: FloatArray | None
     success: bool
-    status: int
+    status: Status
     message: str
     iterations: int
     solve_time_s: float
@@ -195,12 +196,8 @@ class Solution:
             return []
         out = []
         for block, lam in zip(self.blocks, self.multipliers, strict=True):
-            if block.kind == "wall":
-                normal, _ = self.scene.walls[block.members[0]].unit()
-                normals = np.tile(np.asarray(normal, dtype=float), (block.size, 1))
-            elif block.kind == "lumen":
-                normals = block.normals
-            else:
+            normals = block.contact_normals(self.scene)
+            if normals is None:
                 continue
             for k, force, n in zip(block.nodes, lam, normals, strict=True):
                 if force > CONTACT_FORCE:
@@ -333,9 +330,6 @@ def _reactions(form: Formulation, phi: FloatArray, nodes: FloatArray, multiplier
     return tuple(out), (None if multipliers is None else loads.node_forces)
 
 
-#: ``Solution.status`` of a run that converged to a shape failing :func:`shape_defect` (not an ``sqp`` code).
-SHAPE_REJECTED = 20
-
 #: A node may violate a constraint by this many times ``tol · max(1, L)`` before the shape is rejected.
 VIOLATION_FACTOR = 10.0
 
@@ -374,7 +368,7 @@ def build_solution(form: Formulation, res: Any, solve_time_s: float, *, iteratio
     phi = form.answer(np.asarray(res.x, dtype=float), multipliers)
     nodes = form.nodes_at(phi)
     max_violation = form.max_violation(phi, nodes)
-    success, status = bool(res.success), int(res.status)
+    success, status = bool(res.success), Status(int(res.status))
     message = str(res.message) if message is None else message
     defect = shape_defect(form, phi, nodes, max_violation, tol) if success else None
     vessel = form.scene.vessel

@@ -158,6 +158,15 @@ class Wire:
             raise TypeError(f"wire.bars is {self.bars!r}; expected a whole number of bars.")
         if int(self.bars) < 1:
             raise ValueError(f"wire.bars is {self.bars}; use at least 1 bar (the paper uses 100).")
+        self._check_material()
+        if self.scheme not in SCHEMES:
+            raise ValueError(f"wire.scheme is {self.scheme!r}; expected one of {', '.join(map(repr, SCHEMES))}.")
+        object.__setattr__(self, "length", length)
+        object.__setattr__(self, "bars", int(self.bars))
+        self._check_layout(length)
+
+    def _check_material(self) -> None:
+        """Check (and store as floats) the modulus, diameter, optional ``I`` and optional b₂."""
         for name in ("youngs_modulus", "diameter"):
             value = _real(getattr(self, name), f"wire.{name}")
             if value <= 0.0:
@@ -175,10 +184,9 @@ class Wire:
             if b2 <= 0.0:
                 raise ValueError(f"wire.max_relative_angle is {b2}; give a positive bound in rad or omit it.")
             object.__setattr__(self, "max_relative_angle", b2)
-        if self.scheme not in SCHEMES:
-            raise ValueError(f"wire.scheme is {self.scheme!r}; expected one of {', '.join(map(repr, SCHEMES))}.")
-        object.__setattr__(self, "length", length)
-        object.__setattr__(self, "bars", int(self.bars))
+
+    def _check_layout(self, length: float) -> None:
+        """Check (and store) the sections, the density and the optional explicit bar lengths."""
         if isinstance(self.sections, Section) or not isinstance(self.sections, Sequence):
             raise TypeError(f"wire.sections is {self.sections!r}; expected a sequence of guidewire.Section.")
         for i, section in enumerate(self.sections):

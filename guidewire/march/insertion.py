@@ -186,6 +186,28 @@ def insert(scene: Scene, lengths: Iterable[float], *, predictor: str = "track",
     ValueError
         For lengths that are not positive and strictly increasing, or options the insertion sets itself.
     """
+    values = _check_insertion(lengths, predictor, options)
+    density = scene.wire.bars / scene.wire.length
+    options.setdefault("reuse", ModelReuse())
+    steps: list[Solution] = []
+    started: list[str] = []
+    for length in values:
+        grown = scene.wire.with_length(length)  # sections stay anchored at the tip: they move with the material
+        bars = max(1 + len(grown.section_boundaries()), int(round(length * density)))
+        step_scene = scene.with_wire(length=length, bars=bars)
+        try:
+            sol, how = _step(step_scene, bars, steps[-1] if steps else None, predictor, options)
+        except (ValueError, TypeError) as exc:
+            return Insertion(values, steps, started, f"step at {length:g} mm: {exc}")
+        steps.append(sol)
+        started.append(how)
+        if progress is not None:
+            progress(sol, how, len(steps) - 1, len(values))
+    return Insertion(values, steps, started)
+
+
+def _check_insertion(lengths: Iterable[float], predictor: str, options: dict[str, Any]) -> tuple[float, ...]:
+    """The inserted lengths as floats, after checking them, the predictor and the options :func:`insert` sets."""
     values = tuple(float(v) for v in lengths)
     if not values:
         raise ValueError("lengths is empty; give the inserted lengths (mm), e.g. numpy.arange(10, 101, 1.0).")
@@ -197,33 +219,22 @@ def insert(scene: Scene, lengths: Iterable[float], *, predictor: str = "track",
     for name in ("bars", "initial_angles", "initial_nodes", "multipliers0"):
         if name in options:
             raise ValueError(f"{name} is set by insert() for every step; pass the scene with the bar density you want.")
-    density = scene.wire.bars / scene.wire.length
-    options.setdefault("reuse", ModelReuse())
-    steps: list[Solution] = []
-    started: list[str] = []
-    for length in values:
-        grown = scene.wire.with_length(length)  # sections stay anchored at the tip: they move with the material
-        bars = max(1 + len(grown.section_boundaries()), int(round(length * density)))
-        step_scene = scene.with_wire(length=length, bars=bars)
-        try:
-            if not steps:
-                sol, how = solve(step_scene, **options), "cold"
-            else:
-                if predictor == "track":
-                    start, lam = _tracked_angles(steps[-1], step_scene, bars), steps[-1]
-                else:
-                    start, lam = (_advanced_angles(steps[-1], step_scene, bars),
-                                  _advanced_multipliers(steps[-1], bars))
-                sol = solve(step_scene, initial_angles=start, multipliers0=lam, **options)
-                how = "warm"
-                if not sol.success:
-                    cold = solve(step_scene, **options)
-                    if cold.success:
-                        sol, how = cold, "warm, then cold"
-        except (ValueError, TypeError) as exc:
-            return Insertion(values, steps, started, f"step at {length:g} mm: {exc}")
-        steps.append(sol)
-        started.append(how)
-        if progress is not None:
-            progress(sol, how, len(steps) - 1, len(values))
-    return Insertion(values, steps, started)
+    return values
+
+
+def _step(scene: Scene, bars: int, prev: Solution | None, predictor: str,
+          options: dict[str, Any]) -> tuple[Solution, str]:
+    """One insertion step and how it started: cold for the first, else warm from ``prev`` (by ``predictor``), and
+    cold again when the warm start fails and the cold one succeeds."""
+    if prev is None:
+        return solve(scene, **options), "cold"
+    if predictor == "track":
+        start, lam = _tracked_angles(prev, scene, bars), prev
+    else:
+        start, lam = _advanced_angles(prev, scene, bars), _advanced_multipliers(prev, bars)
+    sol = solve(scene, initial_angles=start, multipliers0=lam, **options)
+    if not sol.success:
+        cold = solve(scene, **options)
+        if cold.success:
+            return cold, "warm, then cold"
+    return sol, "warm"

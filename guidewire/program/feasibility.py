@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import math
 from functools import lru_cache
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -277,44 +277,26 @@ def discrete_reach(scene: Scene) -> str | None:
     anchors = _anchors(scene, nodes)
     b2 = math.inf if scene.wire.max_relative_angle is None or _rest_curved(scene) else scene.wire.max_relative_angle
     total = float(scene.wire.length)
-    points = _positions(scene)
     node_of = {-1: 0, **{i: int(k) for i, k in enumerate(nodes)}}
+    spans = []  # (label of the pair, first bar, end bar, the two points)
+    points = _positions(scene)
+    for (name_a, s_a, p_a, i_a), (name_b, s_b, p_b, i_b) in zip(points, points[1:], strict=False):
+        pair = f"{_point_label(name_a, p_a, s_a)} and {_point_label(name_b, p_b, s_b)}"
+        spans.append((pair, node_of[i_a], node_of[i_b], p_a, p_b))
     if b2 == math.inf and (scene.wire.scheme != "paper" or not anchors):
-        # no angle bounds a bar: every bar is free, and with equal bars between two positions (one segment) only a
-        # single bar has a least reach (its length; the most is the continuum check's)
-        for (name_a, s_a, p_a, i_a), (name_b, s_b, p_b, i_b) in zip(points, points[1:], strict=False):
-            a, b = node_of[i_a], node_of[i_b]
-            distance = math.dist(p_a, p_b)
-            if b - a == 1 and abs(distance - lengths[a]) > FEASIBILITY_SLACK * total:
-                pair = f"{_point_label(name_a, p_a, s_a)} and {_point_label(name_b, p_b, s_b)}"
-                return _rigid(pair, distance, n, "", f"one bar of {lengths[a]:.6g} mm", distance)
-        return None
+        return _single_bar_reach(spans, lengths, total, n)
     j = np.arange(1, n + 1, dtype=float)
     lo, hi = np.full(n, -np.inf), np.full(n, np.inf)
     for pos, theta, _ in anchors:
         dist = np.abs(j - pos)
         reach = dist * b2 if math.isfinite(b2) else np.where(dist == 0.0, 0.0, np.inf)
         lo, hi = np.maximum(lo, theta - reach), np.minimum(hi, theta + reach)
-    for (name_a, s_a, p_a, i_a), (name_b, s_b, p_b, i_b) in zip(points, points[1:], strict=False):
-        a, b = node_of[i_a], node_of[i_b]
+    for pair, a, b, p_a, p_b in spans:
         delta = np.subtract(p_b, p_a)
         distance = float(np.hypot(*delta))
-        pair = f"{_point_label(name_a, p_a, s_a)} and {_point_label(name_b, p_b, s_b)}"
-        pinned = hi[a:b] - lo[a:b] <= 0.0  # bars whose angle a prescribed angle fixes (paper scheme)
-        free = ~np.isfinite(hi[a:b] - lo[a:b])  # bars free to turn all the way round
-        if np.all(pinned | free):
-            # rigid bars: the free ones must span what the pinned ones leave, a distance between the longest free
-            # bar minus the others and their sum (a single bar: exactly its length)
-            seg = lengths[a:b]
-            rest = delta - seg[pinned] @ np.column_stack((np.cos(lo[a:b][pinned]), np.sin(lo[a:b][pinned])))
-            need = float(np.hypot(*rest))
-            longest, reach_free = float(seg[free].max(initial=0.0)), float(seg[free].sum())
-            shortest = max(0.0, 2.0 * longest - reach_free)
-            if not shortest - FEASIBILITY_SLACK * total <= need <= reach_free + FEASIBILITY_SLACK * total:
-                what = (f"one bar of {longest:.6g} mm" if free.sum() == 1 else
-                        f"{int(free.sum())} bars that span {shortest:.6g} to {reach_free:.6g} mm")
-                fixed = f" besides the {int(pinned.sum())} bar(s) a prescribed angle fixes" if pinned.any() else ""
-                return _rigid(pair, distance, n, fixed, what, need)
+        reason = _rigid_reach(pair, delta, distance, lengths[a:b], lo[a:b], hi[a:b], total, n)
+        if reason is not None:
+            return reason
         psi = math.atan2(delta[1], delta[0])
         reach = float(lengths[a:b] @ _best_cosine(lo[a:b], hi[a:b], psi))
         if distance > reach + FEASIBILITY_SLACK * total:
@@ -326,6 +308,37 @@ def discrete_reach(scene: Scene) -> str | None:
                 + " or move a contact"
             )
     return None
+
+
+def _single_bar_reach(spans: list[Any], lengths: FloatArray, total: float, n: int) -> str | None:
+    """No angle bounds a bar: every bar is free, and with equal bars between two positions (one segment) only a
+    single bar has a least reach (its length; the most is the continuum check's)."""
+    for pair, a, b, p_a, p_b in spans:
+        distance = math.dist(p_a, p_b)
+        if b - a == 1 and abs(distance - lengths[a]) > FEASIBILITY_SLACK * total:
+            return _rigid(pair, distance, n, "", f"one bar of {lengths[a]:.6g} mm", distance)
+    return None
+
+
+def _rigid_reach(pair: str, delta: FloatArray, distance: float, seg: FloatArray, lo: FloatArray, hi: FloatArray,
+                 total: float, n: int) -> str | None:
+    """When every bar between two positions is pinned by a prescribed angle or free to turn all the way round
+    (rigid bars): the free ones must span what the pinned ones leave, a distance between the longest free bar minus
+    the others and their sum (a single bar: exactly its length)."""
+    pinned = hi - lo <= 0.0  # bars whose angle a prescribed angle fixes (paper scheme)
+    free = ~np.isfinite(hi - lo)  # bars free to turn all the way round
+    if not np.all(pinned | free):
+        return None
+    rest = delta - seg[pinned] @ np.column_stack((np.cos(lo[pinned]), np.sin(lo[pinned])))
+    need = float(np.hypot(*rest))
+    longest, reach_free = float(seg[free].max(initial=0.0)), float(seg[free].sum())
+    shortest = max(0.0, 2.0 * longest - reach_free)
+    if shortest - FEASIBILITY_SLACK * total <= need <= reach_free + FEASIBILITY_SLACK * total:
+        return None
+    what = (f"one bar of {longest:.6g} mm" if free.sum() == 1 else
+            f"{int(free.sum())} bars that span {shortest:.6g} to {reach_free:.6g} mm")
+    fixed = f" besides the {int(pinned.sum())} bar(s) a prescribed angle fixes" if pinned.any() else ""
+    return _rigid(pair, distance, n, fixed, what, need)
 
 
 CHECKS = (

@@ -129,30 +129,43 @@ def build_model(scene: Scene, initial_angles: Any = None, initial_nodes: Any = N
     if reuse is not None:
         for part in kept:
             reuse.hits[part] += 1
-    base = np.asarray(scene.base.point, dtype=float)
-    if prev is not None and "layout" in kept:
-        lengths, contact_nodes = prev.chain.lengths, prev.contact_nodes
-        chain = prev.chain if np.array_equal(prev.chain.base_point, base) else BarChain(base, lengths)
-    else:
-        lengths, contact_nodes = scene_bars(scene)
-        chain = BarChain(base, lengths)
+    chain, contact_nodes = _chain(scene, prev if "layout" in kept else None)
     n = chain.n_bars
     if prev is not None and "energy" in kept:
         energy, hess0 = prev.energy, prev.hess0
     else:
         energy = _energy(scene, chain, contact_nodes)
         hess0 = prev.hess0 if prev is not None and "hessian" in kept else _hessian(energy, n)
-    if initial_angles is not None:
-        x0 = _check_initial(initial_angles, n, "initial_angles", (n,))
-    elif initial_nodes is not None:
-        x0 = chain.angles_from_nodes(_check_initial(initial_nodes, n, "initial_nodes", (n + 1, 2)))
-    else:
-        x0 = default_initial_angles(scene, chain, contact_nodes)
+    x0 = _start(scene, chain, contact_nodes, initial_angles, initial_nodes)
     model = Model(scene=scene, chain=chain, contact_nodes=contact_nodes, energy=energy, hess0=hess0, x0=x0,
                   keys=keys)
     if reuse is not None:
         reuse.model = model
     return model
+
+
+def _chain(scene: Scene, prev: Model | None) -> tuple[BarChain, IntArray]:
+    """The bar chain and contact nodes of ``scene``: ``prev``'s layout when given (it is the same), on the scene's
+    base point."""
+    base = np.asarray(scene.base.point, dtype=float)
+    if prev is not None:
+        lengths, contact_nodes = prev.chain.lengths, prev.contact_nodes
+        chain = prev.chain if np.array_equal(prev.chain.base_point, base) else BarChain(base, lengths)
+    else:
+        lengths, contact_nodes = scene_bars(scene)
+        chain = BarChain(base, lengths)
+    return chain, contact_nodes
+
+
+def _start(scene: Scene, chain: BarChain, contact_nodes: IntArray, initial_angles: Any,
+           initial_nodes: Any) -> FloatArray:
+    """The start angles: the given ones, the directions of the given nodes, or the default start."""
+    n = chain.n_bars
+    if initial_angles is not None:
+        return _check_initial(initial_angles, n, "initial_angles", (n,))
+    if initial_nodes is not None:
+        return chain.angles_from_nodes(_check_initial(initial_nodes, n, "initial_nodes", (n + 1, 2)))
+    return default_initial_angles(scene, chain, contact_nodes)
 
 
 def _energy(scene: Scene, chain: BarChain, contact_nodes: IntArray) -> EnergyTerms:

@@ -226,7 +226,30 @@ def _toml_value(value: Any) -> str:
 def scene_to_dict(scene: Scene) -> dict[str, Any]:
     """The scene as the mapping of a scene file (mm, rad, MPa; only the fields that are set), which
     :func:`scene_from_dict` reads back to an equal :class:`Scene`; JSON-ready."""
-    w = scene.wire
+    base: dict[str, Any] = {"point": list(scene.base.point)}
+    if scene.base.angle is not None:
+        base["angle"] = scene.base.angle
+    base["name"] = scene.base.name
+    contacts = [contact_to_dict(contact) for contact in scene.contacts]
+    out: dict[str, Any] = {}
+    if scene.name:
+        out["name"] = scene.name
+    if scene.notes:
+        out["notes"] = scene.notes
+    out["wire"], out["base"] = wire_to_dict(scene.wire), base
+    if contacts:
+        out["contact"] = contacts
+    if scene.walls:
+        out["wall"] = [{"normal": list(wall.normal), "offset": wall.offset} for wall in scene.walls]
+    if scene.vessel is not None:
+        out["vessel"] = vessel_to_dict(scene.vessel)
+        if scene.base == Scene.in_vessel(scene.wire, scene.vessel).base:
+            del out["base"]  # the entrance: what a file without [base] means
+    return out
+
+
+def wire_to_dict(w: Wire) -> dict[str, Any]:
+    """The ``[wire]`` table of a scene file (only the fields that are set), JSON-ready."""
     wire: dict[str, Any] = {"length": w.length, "bars": w.bars, "youngs_modulus": w.youngs_modulus,
                             "diameter": w.diameter}
     if w.moment_of_inertia is not None:
@@ -244,35 +267,19 @@ def scene_to_dict(scene: Scene) -> dict[str, Any]:
                                                 "rest_curvature") if getattr(sec, key) is not None}
             for sec in w.sections
         ]
-    base: dict[str, Any] = {"point": list(scene.base.point)}
-    if scene.base.angle is not None:
-        base["angle"] = scene.base.angle
-    base["name"] = scene.base.name
-    contacts = []
-    for contact in scene.contacts:
-        item: dict[str, Any] = {"s": contact.s}
-        if contact.point is not None:
-            item["point"] = list(contact.point)
-        if contact.angle is not None:
-            item["angle"] = contact.angle
-        if contact.name:
-            item["name"] = contact.name
-        contacts.append(item)
-    out: dict[str, Any] = {}
-    if scene.name:
-        out["name"] = scene.name
-    if scene.notes:
-        out["notes"] = scene.notes
-    out["wire"], out["base"] = wire, base
-    if contacts:
-        out["contact"] = contacts
-    if scene.walls:
-        out["wall"] = [{"normal": list(wall.normal), "offset": wall.offset} for wall in scene.walls]
-    if scene.vessel is not None:
-        out["vessel"] = vessel_to_dict(scene.vessel)
-        if scene.base == Scene.in_vessel(scene.wire, scene.vessel).base:
-            del out["base"]  # the entrance: what a file without [base] means
-    return out
+    return wire
+
+
+def contact_to_dict(contact: Contact) -> dict[str, Any]:
+    """One ``[[contact]]`` table of a scene file (only the fields that are set), JSON-ready."""
+    item: dict[str, Any] = {"s": contact.s}
+    if contact.point is not None:
+        item["point"] = list(contact.point)
+    if contact.angle is not None:
+        item["angle"] = contact.angle
+    if contact.name:
+        item["name"] = contact.name
+    return item
 
 
 def vessel_to_dict(vessel: Vessel) -> dict[str, Any]:
@@ -296,17 +303,21 @@ def scene_to_toml(scene: Scene) -> str:
     """The scene as TOML text that :func:`load_scene` reads back to an equal :class:`Scene`."""
     data = scene_to_dict(scene)
     lines = [f"{key} = {_toml_value(data[key])}" for key in ("name", "notes") if key in data]
-    for table in ("wire", "base"):
-        if table in data:
-            lines += ["", f"[{table}]", *(f"{k} = {_toml_value(v)}" for k, v in data[table].items() if k != "section")]
-        for item in data[table].get("section", []) if table == "wire" else []:
-            lines += ["", "[[wire.section]]", *(f"{k} = {_toml_value(v)}" for k, v in item.items())]
+    lines += _toml_table("[wire]", data["wire"], skip="section")
+    for item in data["wire"].get("section", []):
+        lines += _toml_table("[[wire.section]]", item)
+    if "base" in data:
+        lines += _toml_table("[base]", data["base"])
     for table in ("contact", "wall"):
         for item in data.get(table, []):
-            lines += ["", f"[[{table}]]", *(f"{k} = {_toml_value(v)}" for k, v in item.items())]
+            lines += _toml_table(f"[[{table}]]", item)
     if "vessel" in data:
-        vessel = data["vessel"]
-        lines += ["", "[vessel]", *(f"{k} = {_toml_value(v)}" for k, v in vessel.items() if k != "branch")]
-        for item in vessel.get("branch", []):
-            lines += ["", "[[vessel.branch]]", *(f"{k} = {_toml_value(v)}" for k, v in item.items())]
+        lines += _toml_table("[vessel]", data["vessel"], skip="branch")
+        for item in data["vessel"].get("branch", []):
+            lines += _toml_table("[[vessel.branch]]", item)
     return "\n".join(lines) + "\n"
+
+
+def _toml_table(header: str, items: dict[str, Any], skip: str = "") -> list[str]:
+    """A blank line, the table's ``header`` and its ``key = value`` lines (without the subtable ``skip``)."""
+    return ["", header, *(f"{k} = {_toml_value(v)}" for k, v in items.items() if k != skip)]

@@ -152,8 +152,31 @@ class Scene:
             raise TypeError(f"scene.wire is {type(self.wire).__name__}; expected guidewire.Wire.")
         if not isinstance(self.base, Base):
             raise TypeError(f"scene.base is {type(self.base).__name__}; expected guidewire.Base.")
-        contacts = list(self.contacts)
+        contacts = self._checked_contacts()
         walls = tuple(self.walls)
+        for i, wall in enumerate(walls):
+            if not isinstance(wall, Wall):
+                raise TypeError(f"scene.walls[{i}] is {type(wall).__name__}; expected guidewire.Wall.")
+        if self.vessel is not None and not isinstance(self.vessel, Vessel):
+            raise TypeError(f"scene.vessel is {type(self.vessel).__name__}; expected guidewire.Vessel or None.")
+        object.__setattr__(self, "contacts", tuple(contacts))
+        if self.wire.bars < len(self.segment_ends()):
+            raise ValueError(
+                f"wire.bars is {self.wire.bars} but the contacts split the wire into {len(self.segment_ends())} "
+                "segments; use at least one bar per segment."
+            )
+        pieces = piece_count(self.wire.length, [c.s for c in contacts], self.wire.section_boundaries())
+        if self.wire.bars < pieces:
+            raise ValueError(
+                f"wire.bars is {self.wire.bars} but the contacts and section boundaries split the wire into {pieces} "
+                "pieces; use at least one bar per piece."
+            )
+        object.__setattr__(self, "walls", walls)
+
+    def _checked_contacts(self) -> list[Contact]:
+        """The contacts, checked: each a :class:`Contact` with ``0 < s ≤ L`` (an ``s`` within rounding of ``L`` set
+        to ``L``), in strictly increasing ``s``."""
+        contacts = list(self.contacts)
         for i, contact in enumerate(contacts):
             if not isinstance(contact, Contact):
                 raise TypeError(f"scene.contacts[{i}] is {type(contact).__name__}; expected guidewire.Contact.")
@@ -175,24 +198,7 @@ class Scene:
                     f"{contact.label(i)} has s = {_fmt(contact.s)} after {contacts[i - 1].label(i - 1)} at "
                     f"s = {_fmt(contacts[i - 1].s)}; list contacts by strictly increasing s."
                 )
-        for i, wall in enumerate(walls):
-            if not isinstance(wall, Wall):
-                raise TypeError(f"scene.walls[{i}] is {type(wall).__name__}; expected guidewire.Wall.")
-        if self.vessel is not None and not isinstance(self.vessel, Vessel):
-            raise TypeError(f"scene.vessel is {type(self.vessel).__name__}; expected guidewire.Vessel or None.")
-        object.__setattr__(self, "contacts", tuple(contacts))
-        if self.wire.bars < len(self.segment_ends()):
-            raise ValueError(
-                f"wire.bars is {self.wire.bars} but the contacts split the wire into {len(self.segment_ends())} "
-                "segments; use at least one bar per segment."
-            )
-        pieces = piece_count(self.wire.length, [c.s for c in contacts], self.wire.section_boundaries())
-        if self.wire.bars < pieces:
-            raise ValueError(
-                f"wire.bars is {self.wire.bars} but the contacts and section boundaries split the wire into {pieces} "
-                "pieces; use at least one bar per piece."
-            )
-        object.__setattr__(self, "walls", walls)
+        return contacts
 
     @classmethod
     def in_vessel(

@@ -119,7 +119,21 @@ def candidate_starts(first: Solution) -> list[tuple[str, FloatArray]]:
     pose_nodes = [0] + [int(contact_nodes[i]) for i in posed]
     points = np.array([scene.base.point] + [contacts[i].point for i in posed], dtype=float)
     tangents = first.tangent_angles[pose_nodes].astype(float)
-    chords = np.arctan2(*(points[1:] - points[:-1])[:, ::-1].T)
+    trials = _mirror_trials(tangents, np.arctan2(*(points[1:] - points[:-1])[:, ::-1].T), free)
+    spans = np.diff(np.concatenate(([0.0], np.cumsum(lengths)))[pose_nodes])
+    trials += _scan_trials(first, points, tangents, spans, pose_nodes, free, trials)
+    counts = {"mirror": 0, "tangent-scan": 0}
+    starts = []
+    for kind, trial in trials:
+        counts[kind] += 1
+        starts.append((f"{kind} start {counts[kind]}",
+                       initial_angles(_with_pose_tangents(scene, posed, trial), chain, contact_nodes)))
+    return starts
+
+
+def _mirror_trials(tangents: FloatArray, chords: FloatArray, free: list[bool]) -> list[tuple[str, FloatArray]]:
+    """The poses' tangents with one free end of a segment reflected about its chord, segment by segment from the
+    base (its first end, then its second), skipping reflections that move no tangent by :data:`SAME_BOW`."""
     trials = []
     for j, chord in enumerate(chords):  # segment j: from pose j to pose j + 1
         for e in (j, j + 1):
@@ -128,7 +142,15 @@ def candidate_starts(first: Solution) -> list[tuple[str, FloatArray]]:
                 trial[e] = _reflect(float(tangents[e]), float(chord))
                 if np.abs(trial - tangents).max() >= SAME_BOW:
                     trials.append(("mirror", trial))
-    spans = np.diff(np.concatenate(([0.0], np.cumsum(lengths)))[pose_nodes])
+    return trials
+
+
+def _scan_trials(first: Solution, points: FloatArray, tangents: FloatArray, spans: FloatArray, pose_nodes: list[int],
+                 free: list[bool], mirrors: list[tuple[str, FloatArray]]) -> list[tuple[str, FloatArray]]:
+    """The tangent-scan trial of every free pose from the base on, where the scan's curves bend clearly less than
+    the first answer next to the pose (the first answer then sits on a higher branch) and no earlier trial starts
+    within the scan's spacing."""
+    trials = list(mirrors)
     bending = first.relative_angles * first.curvature  # ∫ θ'² ds per node (Δθ · κ = κ² w)
     for e in np.flatnonzero(free):
         scan, least = _scan_tangent(points, tangents, spans, int(e))
@@ -136,18 +158,10 @@ def candidate_starts(first: Solution) -> list[tuple[str, FloatArray]]:
         own = float(bending[lo : hi + 1].sum() - 0.5 * (bending[lo] + bending[hi]))
         trial = tangents.copy()
         trial[e] = scan
-        # (only where the scan's curves bend clearly less than the first answer next to the pose — the first answer
-        # then sits on a higher branch —, and not where a mirror start starts already)
         spacing = 2.0 * math.pi / SCAN_POINTS
         if least < (1.0 - SCAN_MARGIN) * own and all(np.abs(trial - other).max() > spacing for _, other in trials):
             trials.append(("tangent-scan", trial))
-    counts = {"mirror": 0, "tangent-scan": 0}
-    starts = []
-    for kind, trial in trials:
-        counts[kind] += 1
-        starts.append((f"{kind} start {counts[kind]}",
-                       initial_angles(_with_pose_tangents(scene, posed, trial), chain, contact_nodes)))
-    return starts
+    return trials[len(mirrors):]
 
 
 SCAN_POINTS, SCAN_MARGIN = 12, 0.05

@@ -135,19 +135,25 @@ def reproduce(out: str | Path, *, qp_solver: str | None = None, figures: bool = 
             title = f"{scene.name}: E = {sol.energy:.4g} N·mm"
             panels.append((scene, [sol], None if ref is None else [ref], title, ""))
         if figures:
-            from .plot import plot_group
-
-            if group in OVERLAID_GROUPS:
-                panels = [
-                    (scenes[0], [s for s, _ in pairs], [r for _, r in pairs] if all(r is not None for _, r in pairs)
-                     else None, f"scheme {scheme}", "")
-                    for scheme, pairs in by_scheme.items()
-                ]
-            suptitle = TITLES.get(group, group) + " — colour: bending stress; dashed: continuum"
-            fig = plot_group(panels, suptitle=suptitle)
-            fig.savefig(out / f"{group}.png", dpi=130)
+            _save_group_figure(out, group, scenes, panels, by_scheme)
     write_tables(rows, out)
     return rows
+
+
+def _save_group_figure(out: Path, group: str, scenes: Sequence[Scene], panels: list[Any],
+                       by_scheme: dict[str, list[tuple[Solution, ContinuumShape | None]]]) -> None:
+    """``out/<group>.png``: a panel per scene, or for the overlaid groups a panel per scheme."""
+    from .plot import plot_group
+
+    if group in OVERLAID_GROUPS:
+        panels = [
+            (scenes[0], [s for s, _ in pairs], [r for _, r in pairs] if all(r is not None for _, r in pairs)
+             else None, f"scheme {scheme}", "")
+            for scheme, pairs in by_scheme.items()
+        ]
+    suptitle = TITLES.get(group, group) + " — colour: bending stress; dashed: continuum"
+    fig = plot_group(panels, suptitle=suptitle)
+    fig.savefig(out / f"{group}.png", dpi=130)
 
 
 def failures(rows: Sequence[Row]) -> list[Row]:

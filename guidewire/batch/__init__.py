@@ -1,4 +1,5 @@
-"""Many scenes or insertions at once on any executor (:mod:`.scenes`, :mod:`.insertions`)."""
+"""Many scenes or insertions at once on any executor (:mod:`.scenes`, :mod:`.insertions`), and the resumable
+JSON-lines run of ``python -m guidewire batch`` (:mod:`.files`)."""
 
 from .insertions import insert_many
 from .scenes import SceneError, solve_many

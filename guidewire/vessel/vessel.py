@@ -51,18 +51,7 @@ def _polyline(value: Any, name: str, *, min_points: int = 2) -> Polyline:
     """``value`` as a tuple of points (tuples of finite floats, all of one dimension); 2-D only is built."""
     if isinstance(value, str | bytes) or not isinstance(value, Sequence | np.ndarray):
         raise TypeError(f"{name} is {value!r}; expected a list of points [[x, y], ...] in mm.")
-    points = []
-    for i, item in enumerate(value):
-        if isinstance(item, str | bytes) or not isinstance(item, Sequence | np.ndarray):
-            raise TypeError(f"{name}[{i}] is {item!r}; expected a point [x, y] in mm.")
-        coords = []
-        for j, x in enumerate(item):
-            if isinstance(x, bool | np.bool_) or not isinstance(x, numbers.Real):
-                raise TypeError(f"{name}[{i}][{j}] is {x!r}; expected a real number (mm).")
-            if not math.isfinite(float(x)):
-                raise ValueError(f"{name}[{i}][{j}] is {float(x)}; expected a finite number (mm).")
-            coords.append(float(x))
-        points.append(tuple(coords))
+    points = [_point(item, f"{name}[{i}]") for i, item in enumerate(value)]
     if len(points) < min_points:
         raise ValueError(f"{name} has {len(points)} point(s); give at least {min_points} points [[x, y], ...] (mm), "
                          "entrance first.")
@@ -78,6 +67,20 @@ def _polyline(value: Any, name: str, *, min_points: int = 2) -> Polyline:
             raise ValueError(f"{name}[{i}] repeats {name}[{i - 1}] {_fmt_point(points[i])}; remove the duplicate "
                              "point (the centreline needs distinct consecutive points).")
     return tuple(points)
+
+
+def _point(item: Any, label: str) -> tuple[float, ...]:
+    """One point of a polyline as a tuple of finite floats."""
+    if isinstance(item, str | bytes) or not isinstance(item, Sequence | np.ndarray):
+        raise TypeError(f"{label} is {item!r}; expected a point [x, y] in mm.")
+    coords = []
+    for j, x in enumerate(item):
+        if isinstance(x, bool | np.bool_) or not isinstance(x, numbers.Real):
+            raise TypeError(f"{label}[{j}] is {x!r}; expected a real number (mm).")
+        if not math.isfinite(float(x)):
+            raise ValueError(f"{label}[{j}] is {float(x)}; expected a finite number (mm).")
+        coords.append(float(x))
+    return tuple(coords)
 
 
 def _radius(value: Any, count: int, name: str) -> float | tuple[float, ...]:

@@ -18,7 +18,8 @@ import guidewire
 from guidewire import SceneError, solve, solve_many
 from guidewire.app import cli
 from guidewire.app.export import load_shapes, read_records, save_shapes, wire_spline
-from guidewire.batch.scenes import done_files, slim, solve_files, solve_iter, solve_one
+from guidewire.batch.files import done_files, solve_files
+from guidewire.batch.scenes import slim, solve_iter, solve_one
 from guidewire.chain import spline as spline_module
 from guidewire.scene.paper import paper_scenes, scene_path
 

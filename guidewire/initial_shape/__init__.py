@@ -26,15 +26,15 @@ the start decides which one the solver finds. The default start aims at the lowe
 
 from __future__ import annotations
 
-import functools
 import math
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from .chain.kinematics import BarChain
-from .scene.scene import Scene
+from ..chain.kinematics import BarChain
+from ..scene.scene import Scene
+from .newton import curve_lines, curve_tables, newton
 
 FloatArray = NDArray[np.float64]
 
@@ -94,75 +94,6 @@ def _pose_angles(points: list[FloatArray], angles: list[float | None]) -> list[f
     return out
 
 
-@functools.cache
-def _curve_tables(samples: int) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """What every call of :func:`_segment_curves` shares (read-only) for a midpoint rule of ``samples`` points: the
-    points ``u`` (M,), the basis ``sin(πu), sin(2πu)`` repeated (2, 2M) — the arguments of cos θ and of
-    ``sin θ = cos(θ − π/2)`` side by side —, the block weights (2M, 6) whose one matrix product gives the means of
-    (cos θ, sin θ) and their derivatives in c (columns: cos × [mean, d/dc₁, d/dc₂], then sin × the same), and
-    ``cos(πu), cos(2πu)`` (2, M) for the slopes of the basis."""
-    u = (np.arange(samples) + 0.5) / samples  # midpoints, s = u ℓ
-    basis = np.stack((np.sin(np.pi * u), np.sin(2.0 * np.pi * u)))
-    weights = np.column_stack((np.ones(samples), basis.T)) / samples
-    blocks = np.zeros((2 * samples, 6))
-    blocks[:samples, :3], blocks[samples:, 3:] = weights, weights
-    tables = (u, np.hstack((basis, basis)), blocks, np.stack((np.cos(np.pi * u), np.cos(2.0 * np.pi * u))))
-    for table in tables:
-        table.flags.writeable = False
-    return tables
-
-
-def _lines(samples: int, a0: FloatArray, a1: FloatArray) -> FloatArray:
-    """The part of the arguments ``[θ | θ − π/2]`` at the sample points that does not depend on ``c``, one row
-    (2M,) per segment (``a0``, ``a1``: shape (S,))."""
-    u = _curve_tables(samples)[0]
-    line = a0[:, None] + (a1 - a0)[:, None] * u
-    return np.hstack((line, line - 0.5 * np.pi))
-
-
-#: Columns of the means ``[cm0 − tx, cm1, cm2, sm0 − ty, sm1, sm2]`` (``cm``: cos θ, ``sm``: sin θ; 0 the mean, 1 and
-#: 2 its derivatives in c₁, c₂) whose products :func:`_newton` needs — ``sm2·cm1, sm1·cm2, sm2·ry, cm2·rx, cm1·rx,
-#: sm1·ry``: the six left factors, then the six right ones, one ``take`` — and the matrix summing them into the
-#: Jacobian's determinant and the two numerators of Cramer's rule. (Every sum it forms has two non-zero terms of
-#: weight ±1: exactly the subtraction or addition it replaces.)
-_PAIRS = np.array([5, 4, 5, 2, 1, 4, 1, 2, 3, 0, 0, 3])
-_CRAMER = np.array([[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0],
-                    [0.0, 0.0, 1.0]])
-
-
-def _newton(c: FloatArray, lines: FloatArray, offset: FloatArray, samples: int, steps: int
-            ) -> tuple[FloatArray, bool]:
-    """``steps`` damped Newton steps (``|Δc|∞ ≤ 1``) on the closure ``mean(cos θ, sin θ) = target`` for every row of
-    ``c`` (R, 2) at once, in place, on the ``samples``-point rule; ``lines`` (R or 1, 2M) is each row's part of the
-    arguments without ``c`` (:func:`_lines`), ``offset`` (R or 1, 6) its target in columns 0 and 3 (the rows may
-    belong to different segments). Stops early once every step is below 1e-13. Returns the end-point miss / ℓ (R,)
-    before the last step, and whether it stopped so (then every miss is the end point's up to that last step:
-    below 1e-12, or exactly the end point's where the Jacobian is singular and no step is made).
-
-    Each step is a handful of whole-array operations (the 2 × 2 solves of all rows by Cramer's rule as one product
-    and one matrix product, :data:`_CRAMER`): per row the same arithmetic as writing the rule out term by term."""
-    _, basis, blocks, _ = _curve_tables(samples)
-    means, settled = None, False
-    for _ in range(steps):
-        args = c @ basis
-        args += lines
-        means = np.cos(args, out=args) @ blocks
-        means -= offset  # the residual in columns 0 and 3
-        pairs = means.take(_PAIRS, axis=1)
-        cramer = (pairs[:, :6] * pairs[:, 6:]) @ _CRAMER  # det, −(sm2 ry + cm2 rx), cm1 rx + sm1 ry
-        det = cramer[:, 0]
-        step = cramer[:, 1:] * (1.0 / np.where(np.abs(det) > 1e-12, det, np.inf))[:, None]  # singular: no step
-        size = np.maximum.reduce(np.abs(step), axis=1)
-        largest = np.maximum.reduce(size, initial=0.0)
-        if largest > 1.0:  # damped rows (|Δc|∞ ≤ 1); otherwise every factor would be exactly 1
-            step *= (1.0 / np.maximum(size, 1.0))[:, None]
-        c += step
-        if largest <= 1e-13:
-            settled = True
-            break
-    return (np.full(c.shape[0], np.inf) if means is None else np.hypot(means[:, 0], means[:, 3])), settled
-
-
 #: The grid of starts ``[c₁, c₂]`` of :func:`_segment_curves` (read-only; each call copies it).
 _STARTS = np.stack(np.meshgrid(*(2 * [np.linspace(-NEWTON_GRID, NEWTON_GRID, NEWTON_GRID_POINTS)]), indexing="ij"),
                    axis=-1).reshape(-1, 2)
@@ -209,16 +140,16 @@ def _many_segment_curves(segments: list[Segment]) -> list[tuple[FloatArray, Floa
     offset[:, 0], offset[:, 3] = target[:, 0], target[:, 1]
     c = np.tile(_STARTS, (count, 1))  # (S G, 2): the grid of each segment in turn
     row_segment = np.repeat(np.arange(count), starts)
-    lines = _lines(COARSE_SAMPLES, a0, a1)
-    coarse, _ = _newton(c, lines[row_segment] if count > 1 else lines, offset[row_segment] if count > 1 else offset,
+    lines = curve_lines(COARSE_SAMPLES, a0, a1)
+    coarse, _ = newton(c, lines[row_segment] if count > 1 else lines, offset[row_segment] if count > 1 else offset,
                         COARSE_SAMPLES, COARSE_STEPS)
     near = np.flatnonzero(coarse <= POLISH_MISS)
     seg = row_segment[near]
-    lines = _lines(CURVE_SAMPLES, a0, a1)[seg]
+    lines = curve_lines(CURVE_SAMPLES, a0, a1)[seg]
     fine = c[near]
-    last, settled = _newton(fine, lines, offset[seg], CURVE_SAMPLES, NEWTON_STEPS - COARSE_STEPS)
+    last, settled = newton(fine, lines, offset[seg], CURVE_SAMPLES, NEWTON_STEPS - COARSE_STEPS)
     c[near] = fine
-    _, basis, blocks, (cos1, cos2) = _curve_tables(CURVE_SAMPLES)
+    _, basis, blocks, (cos1, cos2) = curve_tables(CURVE_SAMPLES)
     if not settled:  # the end points' own miss (when every step settled, the last one decides the same)
         args = fine @ basis
         args += lines
@@ -414,6 +345,20 @@ def _lumen_angles(vessel: Any, chain: BarChain, base_angle: float | None) -> Flo
     return angles + 2.0 * math.pi * round((reference - angles[0]) / (2.0 * math.pi))
 
 
+def _poses(scene: Scene, contact_nodes: NDArray[np.int_]) -> tuple[list[int], list[FloatArray], list[float | None]]:
+    """The poses (step 1 of the module docstring): the base and every contact with a point, as their nodes, their
+    points and their prescribed angles (None where free; a free base without positions takes the first known
+    angle)."""
+    base = scene.base
+    pose_nodes = [0] + [int(k) for k, c in zip(contact_nodes, scene.contacts, strict=True) if c.point is not None]
+    points = [np.asarray(base.point, dtype=float)]
+    points += [np.asarray(c.point, dtype=float) for c in scene.contacts if c.point is not None]
+    angles: list[float | None] = [base.angle] + [c.angle for c in scene.contacts if c.point is not None]
+    if len(points) == 1 and angles[0] is None:  # a free base and no position: start along the first known angle
+        angles[0] = next((c.angle for c in scene.contacts if c.angle is not None), 0.0)
+    return pose_nodes, points, angles
+
+
 def initial_angles(scene: Scene, chain: BarChain, contact_nodes: NDArray[np.int_]) -> FloatArray:
     """The default start ``φ0`` for ``scene`` on ``chain`` (see the module docstring).
 
@@ -434,12 +379,7 @@ def initial_angles(scene: Scene, chain: BarChain, contact_nodes: NDArray[np.int_
     vessel = getattr(scene, "vessel", None)
     if vessel is not None and not scene.contacts:
         return _lumen_angles(vessel, chain, base.angle)
-    pose_nodes = [0] + [int(k) for k, c in zip(contact_nodes, scene.contacts, strict=True) if c.point is not None]
-    points = [np.asarray(base.point, dtype=float)]
-    points += [np.asarray(c.point, dtype=float) for c in scene.contacts if c.point is not None]
-    angles: list[float | None] = [base.angle] + [c.angle for c in scene.contacts if c.point is not None]
-    if len(points) == 1 and angles[0] is None:  # a free base and no position: start along the first known angle
-        angles[0] = next((c.angle for c in scene.contacts if c.angle is not None), 0.0)
+    pose_nodes, points, angles = _poses(scene, contact_nodes)
     tangents = _pose_angles(points, angles)
     lengths = chain.lengths
     spans = [lengths[pose_nodes[i] : pose_nodes[i + 1]] for i in range(len(points) - 1)]

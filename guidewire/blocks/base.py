@@ -22,6 +22,7 @@ returns its blocks, empty when the scene does not need the kind) and one line in
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, ClassVar
 
@@ -134,6 +135,11 @@ def row_violation(values: FloatArray, lb: FloatArray, ub: FloatArray) -> FloatAr
     return np.maximum(np.maximum(lb - values, values - ub), 0.0)
 
 
+#: What a kind with a node working set constrains (:meth:`Block.build`): None (every node), ``"near"`` (the start's
+#: nodes near the constraint) or a mapping from :attr:`Block.key` to the nodes to constrain.
+WorkingSet = str | Mapping[tuple[str, tuple[int, ...]], Any] | None
+
+
 def grown_by_neighbours(nodes: IntArray, violated: IntArray, n: int) -> IntArray:
     """``nodes`` with every ``violated`` node and its two neighbours added (nodes 1..n), sorted: how a block with a
     node working set grows when the answer violates it."""
@@ -165,7 +171,7 @@ class Block:
 
     # -- what every kind provides ------------------------------------------------------------------------------
     @classmethod
-    def build(cls, model: Model, working_set: Any = None) -> list[Block]:
+    def build(cls, model: Model, working_set: WorkingSet = None) -> list[Block]:
         """The blocks of this kind ``model.scene`` needs (none when it needs none).
 
         ``working_set`` is None (every node), ``"near"`` (kinds with a node working set: the start's nodes near the

@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from .base import Block, FloatArray, IntArray, Loads, NodeRows, grown_by_neighbours
+from .base import Block, FloatArray, IntArray, Loads, NodeRows, WorkingSet, grown_by_neighbours
 
 if TYPE_CHECKING:
     from ..program.model import Model
@@ -93,7 +93,7 @@ class Lumen(Block):
     needed: FloatArray = field(default_factory=lambda: np.zeros(0), compare=False)
 
     @classmethod
-    def build(cls, model: Model, working_set: Any = None) -> list[Block]:
+    def build(cls, model: Model, working_set: WorkingSet = None) -> list[Block]:
         vessel = getattr(model.scene, "vessel", None)
         if vessel is None:
             return []

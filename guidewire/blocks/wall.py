@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from .base import Block, FloatArray, IntArray, Loads, NodeRows, grown_by_neighbours
+from .base import Block, FloatArray, IntArray, Loads, NodeRows, WorkingSet, grown_by_neighbours
 
 if TYPE_CHECKING:
     from ..program.model import Model
@@ -35,7 +35,7 @@ class Wall(Block):
     kind: ClassVar[str] = "wall"
 
     @classmethod
-    def build(cls, model: Model, working_set: Any = None) -> list[Block]:
+    def build(cls, model: Model, working_set: WorkingSet = None) -> list[Block]:
         out: list[Block] = []
         n = model.n
         start = model.chain.nodes(model.x0) if model.scene.walls and isinstance(working_set, str) else None

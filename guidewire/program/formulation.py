@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import LinearConstraint, NonlinearConstraint
 
-from ..blocks import BLOCK_TYPES, AngleRows, Block, NodeRows, Rows
+from ..blocks import BLOCK_TYPES, AngleRows, Block, NodeRows, Rows, WorkingSet
 from ..blocks.base import row_violation
 from ..scene.scene import SCHEMES, Scene
 from .feasibility import check_feasible
@@ -239,7 +239,8 @@ class Formulation:
         return self.layout.raw_multipliers(self.blocks, out) if matched else None
 
 
-def _working_set(wall_nodes: Any) -> Any:
+def _working_set(wall_nodes: Any) -> WorkingSet:
+    """``wall_nodes`` of :func:`formulate` as the blocks' :data:`~guidewire.blocks.base.WorkingSet`."""
     if wall_nodes is None or isinstance(wall_nodes, str | Mapping):
         return wall_nodes
     return {("wall", (j,)): np.asarray(nodes, dtype=int) for j, nodes in enumerate(wall_nodes)}

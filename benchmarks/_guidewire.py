@@ -32,7 +32,7 @@ from _timing import measure
 import guidewire
 import sqp
 from guidewire import formulate
-from guidewire.feasibility import infeasibility
+from guidewire.program.feasibility import infeasibility
 from guidewire.reference import continuum_reference, node_errors
 
 #: An answer counts as feasible when no constraint is violated by more than this (mm or rad).
@@ -44,7 +44,7 @@ OTHER_BRANCH_RTOL = 1e-3
 
 
 def feasible(scene: guidewire.Scene) -> bool:
-    """Whether nothing obvious forbids a shape (:func:`guidewire.feasibility.infeasibility`)."""
+    """Whether nothing obvious forbids a shape (:func:`guidewire.program.feasibility.infeasibility`)."""
     return infeasibility(scene) is None
 
 
@@ -82,8 +82,8 @@ def make_case(scene: guidewire.Scene, *, bars: int | None = None, scheme: str | 
 def step_problem(sol: Any, initial_angles: Any) -> Problem:
     """The program of a solved step as our last round stated it — its blocks (a lumen's rows modelled where that
     round left them, exact at the answer) — from ``initial_angles``: the same NLP and start for a peer."""
-    from guidewire.formulation import assemble
-    from guidewire.model import build_model
+    from guidewire.program.formulation import assemble
+    from guidewire.program.model import build_model
 
     form = assemble(build_model(sol.scene, initial_angles=initial_angles), sol.layout, sol.blocks)
     return Problem(fun=form.fun, jac=form.jac, x0=form.x0, constraints=tuple(form.constraints), bounds=None,

@@ -1,5 +1,5 @@
 """Branch misses on random feasible scenes: how often ``guidewire.solve`` ends on a local minimum above the chain the
-scene was generated from (:mod:`guidewire.chain_scenes`), and what it costs to avoid it.
+scene was generated from (:mod:`guidewire.scene.generated`), and what it costs to avoid it.
 
 Usage: ``python benchmarks/branches.py [--scenes N] [--seed S] [--modes first,lowest] [--repeats K] [--quick]
 [--out DIR]`` (default 800 scenes, seed 2019, both modes, 15 repeats); writes ``branches.md`` and ``branches.csv``
@@ -27,8 +27,8 @@ from _environment import environment, one_thread
 from _tables import markdown_table, output_stem, write_csv, write_markdown
 
 from guidewire import load_scene, solve
-from guidewire.chain_scenes import random_chain_scene
-from guidewire.formulation import formulate
+from guidewire.program.formulation import formulate
+from guidewire.scene.generated import random_chain_scene
 
 #: The paper scenes timed (the scene files but the J tip, which is not a paper scene).
 SCENES = sorted(p for p in (Path(__file__).resolve().parents[1] / "guidewire" / "scenes").glob("*.toml")

@@ -60,7 +60,7 @@ from scipy.integrate import quad
 import guidewire
 import sqp
 from guidewire import Base, Contact, Scene, Wall
-from guidewire.paper import paper_wire
+from guidewire.scene.paper import paper_wire
 
 MAX_ITER = 500
 #: Mean node error (as a fraction of the wire length) up to which an answer agrees with the continuum reference:

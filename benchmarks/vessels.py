@@ -57,7 +57,7 @@ def insertion(name: str, span: float, step: float, ipopt: bool) -> tuple[list[di
                                "ours_ms": 1e3 * sol.solve_time_s, "energy": sol.energy,
                                "contacts": len(sol.contacts()), "ipopt_ms": math.nan, "ipopt_energy": math.nan}
         if ipopt and k > 0 and sol.success:
-            from guidewire.insertion import _tracked_angles  # the same warm start as ours
+            from guidewire.march.insertion import _tracked_angles  # the same warm start as ours
 
             prob = step_problem(sol, _tracked_angles(out.steps[k - 1], sol.scene, sol.n_bars))
             res = run_ipopt(prob)

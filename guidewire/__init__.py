@@ -5,25 +5,27 @@
 >>> sol.success, round(sol.energy, 2)
 (True, 4.55)
 
-Modules: :mod:`~guidewire.scene` (values), :mod:`~guidewire.scene_file` (TOML), :mod:`~guidewire.chain`
-(kinematics), :mod:`~guidewire.energy` (the two schemes), :mod:`~guidewire.blocks` (one type per constraint kind),
-:mod:`~guidewire.formulation` (the NLP in either layout; :mod:`~guidewire.full_space` the full-space one),
-:mod:`~guidewire.initial_shape` (the start), :mod:`~guidewire.solve`, :mod:`~guidewire.sequence` and
-:mod:`~guidewire.result`, :mod:`~guidewire.reference` (the exact continuum elastica), :mod:`~guidewire.paper` (the
-paper's scenes), :mod:`~guidewire.vessel` (vessel lumens), :mod:`~guidewire.plot` (figures, needs matplotlib),
-:mod:`~guidewire.cli` (``python -m guidewire``).
+The package reads from values to answers; each line imports only from the lines above it (and sqp):
+
+- :mod:`~guidewire.fields`, :mod:`~guidewire.wire`, :mod:`~guidewire.energy`, :mod:`~guidewire.status`: checked
+  values, the wire, its bending energy and why a solve ended (shared by the planar model and the 3D rod);
+- :mod:`~guidewire.vessel` (lumens), :mod:`~guidewire.scene` (what is solved: values, TOML files, the paper's
+  scenes), :mod:`~guidewire.chain` (bar layouts, kinematics, density, the wire's spline),
+  :mod:`~guidewire.initial_shape` (the default start);
+- :mod:`~guidewire.blocks` (one type per constraint kind), :mod:`~guidewire.program` (a scene as a nonlinear
+  program, in the reduced or full-space layout);
+- :mod:`~guidewire.solve` (one scene: front door, options, pipeline, branches, refinement, the Solution),
+  :mod:`~guidewire.march` (warm-started insertion and sequences), :mod:`~guidewire.batch` (many at once);
+- :mod:`~guidewire.reference` (the exact continuum elastica), :mod:`~guidewire.app` (``python -m guidewire``,
+  figures, exports), :mod:`~guidewire.rod` and :mod:`~guidewire.solve3d` (the 3D model).
 """
 
-from .batch import SceneError, solve_many
-from .batch_insert import insert_many
-from .formulation import Formulation, formulate
-from .insertion import Insertion, insert
-from .paper import paper_groups, paper_scenes
-from .result import Reaction, Solution
-from .scene import Base, Contact, Scene, Section, Wall, Wire
-from .scene_file import load_scene, scene_to_toml
-from .sequence import SequenceResult, solve_sequence
-from .solve import solve
+from .batch import SceneError, insert_many, solve_many
+from .march import Insertion, SequenceResult, insert, solve_sequence
+from .program import Formulation, formulate
+from .scene import Base, Contact, Scene, Section, Wall, Wire, load_scene, paper_groups, paper_scenes, scene_to_toml
+from .solve import Reaction, Solution, solve
+from .status import Status
 from .vessel import Branch, Clearance, Vessel
 
 __all__ = [
@@ -39,6 +41,7 @@ __all__ = [
     "Section",
     "SequenceResult",
     "Solution",
+    "Status",
     "Vessel",
     "Wall",
     "Wire",

@@ -1,7 +1,7 @@
-"""``python -m guidewire``: see :mod:`guidewire.cli`."""
+"""``python -m guidewire``: see :mod:`guidewire.app.cli`."""
 
 import sys
 
-from .cli import main
+from .app.cli import main
 
 sys.exit(main())

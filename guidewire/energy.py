@@ -15,8 +15,9 @@ Interior joint between bars ``k`` and ``k+1`` (both schemes)
     The clamp at the base is a full joint of weight ``ε`` between the base tangent ``θ_A`` and bar 1
     (``Δθ_1 = φ_1 − θ_A``, ``w = l_1``), as Eq. 16 counts ``Δθ_1`` from the base direction. A prescribed contact
     angle ``θ_H`` is imposed on the bar ending at the contact node, ``φ_H = θ_H`` (Eqs. 16–18): a linear equality
-    row in :mod:`guidewire.formulation`, not an energy term. Of the two readings of the paper this is the one that
-    reproduces its accuracy: mean node error 0.243 mm on Table 1 (θ_B = π/4, n = 100) and 0.257 mm over the five
+    row in :mod:`~guidewire.program.formulation`, not an energy term. Of the two readings of the paper this is
+    the one that reproduces its accuracy: mean node error 0.243 mm on Table 1 (θ_B = π/4, n = 100) and 0.257 mm over
+    the five
     θ_B, against the paper's 0.2556 mm vs ABAQUS (imposing θ_A on bar 1 as well gives 0.145 mm).
 
 ``scheme = "second_order"`` (default)
@@ -88,14 +89,16 @@ class EnergyTerms:
         return np.zeros(self.offset.size) if self.rest is None else self.rest
 
     @cached_property
-    def _coo(self) -> tuple[IntArray, IntArray, FloatArray]:
+    def coo(self) -> tuple[IntArray, IntArray, FloatArray]:
+        """The difference matrix ``D`` as (term row, bar column, coefficient) triplets: which bars each joint
+        term reads, used to evaluate the terms and to map them to the bars and nodes they involve."""
         D = self.matrix  # canonical CSR: the (row, column) order of ``tocoo``, without building the COO matrix
         rows = np.repeat(np.arange(D.shape[0], dtype=np.intp), np.diff(D.indptr))
         return rows, D.indices.astype(np.intp), D.data
 
     def joint_angles(self, phi: FloatArray) -> FloatArray:
         """``Δ_t = D_t φ − r_t`` in rad, shape (m,): the bend away from the rest shape (the elastic part)."""
-        rows, cols, data = self._coo
+        rows, cols, data = self.coo
         return np.bincount(rows, data * phi[cols], minlength=self.offset.size) - self.offset
 
     def value(self, phi: FloatArray) -> float:
@@ -105,7 +108,7 @@ class EnergyTerms:
 
     def gradient(self, phi: FloatArray) -> FloatArray:
         """``2 Dᵀ C (Dφ − r)``, shape (n,), N·mm/rad."""
-        rows, cols, data = self._coo
+        rows, cols, data = self.coo
         return np.bincount(cols, 2.0 * data * (self.weight * self.joint_angles(phi))[rows],
                            minlength=self.matrix.shape[1])
 
@@ -119,7 +122,7 @@ class EnergyTerms:
         D = self.matrix
         n = D.shape[1]
         counts = np.diff(D.indptr)
-        term, cols, data = self._coo
+        term, cols, data = self.coo
         w2 = 2.0 * self.weight
         diag = np.bincount(cols, w2[term] * data * data, minlength=n)
         touched = np.bincount(cols, minlength=n) > 0
@@ -145,7 +148,7 @@ class EnergyTerms:
     @property
     def row_sum(self) -> FloatArray:
         """``D_t 1`` per term: 0 for a joint between two bars, ±1 for a term with a prescribed tangent."""
-        rows, _, data = self._coo
+        rows, _, data = self.coo
         return np.bincount(rows, data, minlength=self.offset.size)
 
     def node_rows(self, n_nodes: int) -> tuple[sp.csr_matrix, FloatArray]:
@@ -239,7 +242,7 @@ def bending_terms(
     data = np.broadcast_to(np.array([-1.0, 1.0]), has.shape)[has]
     matrix = sp.csr_matrix((data, indices, indptr), shape=(node.size, n))
     if np.ndim(stiffness) == 0:
-        weight = float(stiffness) / (2.0 * dual)  # the uniform wire, exactly as before
+        weight = float(stiffness) / (2.0 * dual)  # the uniform wire: EI / (2 w) on every joint
     else:
         ei = np.asarray(stiffness, dtype=float)
         both = (left >= 0) & (right >= 0)

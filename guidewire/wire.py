@@ -14,10 +14,10 @@ from .fields import real as _real
 from .fields import warn_diameter, warn_modulus
 
 SCHEMES = ("second_order", "paper")
-"""Discretisations of the bending energy; see :mod:`guidewire.formulation`."""
+"""Discretisations of the bending energy; see :mod:`guidewire.program.formulation`."""
 
 DENSITIES = ("uniform", "curvature")
-"""Bar layouts :func:`guidewire.solve` can choose (:mod:`guidewire.density`): equal bars within every piece, or bars
+"""Bar layouts :func:`guidewire.solve` can choose (:mod:`~.chain.density`): equal bars within every piece, or bars
 graded by the curvature of a coarse solve (the paper's closing "discrete density by curvature")."""
 
 LAYOUT_ROUNDING = 1e-9
@@ -124,14 +124,14 @@ class Wire:
         The paper's ``b₂`` (Eq. 19): ``|Δθ| ≤ b₂`` at every joint, in rad. None (default) adds no such rows. With a
         rest curvature it bounds the bend away from the rest shape, ``|Δθ − Δθ⁰| ≤ b₂``.
     scheme : {"second_order", "paper"}
-        Discretisation of the bending energy (see :mod:`guidewire.formulation`).
+        Discretisation of the bending energy (see :mod:`guidewire.program.formulation`).
     sections : sequence of Section
         Stretches with their own properties, listed from the tip (see :class:`Section`); empty (default) is the
         uniform wire. Sections longer in total than ``length`` are allowed: only the inserted part counts.
     density : {"uniform", "curvature"} or None
         How :func:`guidewire.solve` lays out the bars when ``bar_lengths`` is None: ``"uniform"`` (equal bars
         within every piece the contacts and sections cut, :func:`guidewire.chain.place_bars`), ``"curvature"``
-        (graded by a coarse solve's curvature, :mod:`guidewire.density`), or None (default): uniform for a given
+        (graded by a coarse solve's curvature, :mod:`guidewire.chain.density`), or None (default): uniform for a given
         bar count, curvature-graded when solving to a tolerance (``tol_mm``).
     bar_lengths : sequence of float or None
         Explicit bar lengths (mm, base first): ``bars`` positive values summing to ``length``, with a node at every
@@ -158,6 +158,15 @@ class Wire:
             raise TypeError(f"wire.bars is {self.bars!r}; expected a whole number of bars.")
         if int(self.bars) < 1:
             raise ValueError(f"wire.bars is {self.bars}; use at least 1 bar (the paper uses 100).")
+        self._check_material()
+        if self.scheme not in SCHEMES:
+            raise ValueError(f"wire.scheme is {self.scheme!r}; expected one of {', '.join(map(repr, SCHEMES))}.")
+        object.__setattr__(self, "length", length)
+        object.__setattr__(self, "bars", int(self.bars))
+        self._check_layout(length)
+
+    def _check_material(self) -> None:
+        """Check (and store as floats) the modulus, diameter, optional ``I`` and optional b₂."""
         for name in ("youngs_modulus", "diameter"):
             value = _real(getattr(self, name), f"wire.{name}")
             if value <= 0.0:
@@ -175,10 +184,9 @@ class Wire:
             if b2 <= 0.0:
                 raise ValueError(f"wire.max_relative_angle is {b2}; give a positive bound in rad or omit it.")
             object.__setattr__(self, "max_relative_angle", b2)
-        if self.scheme not in SCHEMES:
-            raise ValueError(f"wire.scheme is {self.scheme!r}; expected one of {', '.join(map(repr, SCHEMES))}.")
-        object.__setattr__(self, "length", length)
-        object.__setattr__(self, "bars", int(self.bars))
+
+    def _check_layout(self, length: float) -> None:
+        """Check (and store) the sections, the density and the optional explicit bar lengths."""
         if isinstance(self.sections, Section) or not isinstance(self.sections, Sequence):
             raise TypeError(f"wire.sections is {self.sections!r}; expected a sequence of guidewire.Section.")
         for i, section in enumerate(self.sections):
@@ -262,3 +270,27 @@ def _bar_lengths(value: Any, bars: int, length: float) -> tuple[float, ...]:
         raise ValueError(f"wire.bar_lengths sum to {total:.12g} mm but wire.length is {length:.12g} mm; the bars "
                          "must cover the inserted wire exactly.")
     return tuple(float(v) for v in arr)
+
+
+def piece_ends(length: float, contact_s: NDArray[np.float64], breakpoints: Sequence[float]) -> NDArray[np.float64]:
+    """Increasing ends of the pieces: every contact, every breakpoint not within rounding of a contact or an end,
+    and ``L``."""
+    extra = np.asarray(breakpoints, dtype=float)
+    tol = BREAK_ROUNDING * length
+    marks = np.concatenate((contact_s, [0.0, length]))
+    keep = (extra > tol) & (extra < length - tol)
+    if marks.size and extra.size:
+        keep &= np.min(np.abs(extra[:, None] - marks[None, :]), axis=1) > tol
+    ends = np.unique(np.concatenate((contact_s, extra[keep], [length])))
+    return ends[ends <= length]
+
+
+BREAK_ROUNDING = 1e-12
+"""A breakpoint within this fraction of ``L`` of a contact or an end is that contact or end (no sliver bar)."""
+
+
+def piece_count(length: float, contact_s: Sequence[float], breakpoints: Sequence[float] = ()) -> int:
+    """Number of pieces the contacts and breakpoints cut a wire of ``length`` into (the fewest bars it needs)."""
+    if len(breakpoints) == 0:  # the distinct ends up to L among the contacts and L (what piece_ends counts)
+        return len({float(s) for s in contact_s if s <= length} | {float(length)})
+    return int(piece_ends(length, np.asarray(contact_s, dtype=float), breakpoints).size)

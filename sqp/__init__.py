@@ -8,13 +8,13 @@ True
 """
 
 from sqp.backends import installed_solvers
-from sqp.hessian import DENSE_LIMIT
+from sqp.hessian import DENSE_LIMIT, STRUCTURED_MIN
 from sqp.legacy import fmin_slsqp
 from sqp.options import Options
 from sqp.result import IterationRecord, Result, Status
 from sqp.solver import minimize
 
 __all__ = [
-    "DENSE_LIMIT", "IterationRecord", "Options", "Result", "Status", "fmin_slsqp", "installed_solvers",
-    "minimize",
+    "DENSE_LIMIT", "STRUCTURED_MIN", "IterationRecord", "Options", "Result", "Status", "fmin_slsqp",
+    "installed_solvers", "minimize",
 ]

@@ -49,7 +49,7 @@ def test_the_readme_toml_is_a_scene_that_solves(tmp_path):
 
 
 def test_the_readme_commands_use_options_the_cli_has():
-    from guidewire.cli import build_parser
+    from guidewire.app.cli import build_parser
 
     parser = build_parser()
     for command in re.findall(r"^python -m guidewire (.+)$", README, re.M):

@@ -5,7 +5,7 @@ A new kind (say, lumen rows keeping every node inside a vessel) is one new modul
 and one more entry here."""
 
 from .angle import Angle
-from .base import AngleRows, Block, Loads, NodeRows, Rows
+from .base import AngleRows, Block, Loads, NodeRows, Rows, WorkingSet
 from .lumen import Lumen
 from .position import Position
 from .relative_angle import RelativeAngle
@@ -14,4 +14,4 @@ from .wall import Wall
 BLOCK_TYPES: tuple[type[Block], ...] = (Position, Angle, Wall, Lumen, RelativeAngle)
 
 __all__ = ["BLOCK_TYPES", "Angle", "AngleRows", "Block", "Loads", "Lumen", "NodeRows", "Position", "RelativeAngle",
-           "Rows", "Wall"]
+           "Rows", "Wall", "WorkingSet"]

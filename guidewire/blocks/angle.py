@@ -4,15 +4,15 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 import scipy.sparse as sp
 
-from .base import AngleRows, Block, FloatArray, Loads
+from .base import AngleRows, Block, FloatArray, Loads, WorkingSet
 
 if TYPE_CHECKING:
-    from ..model import Model
+    from ..program.model import Model
 
 
 @dataclass(frozen=True)
@@ -26,7 +26,7 @@ class Angle(Block):
     unit: ClassVar[str] = "rad"
 
     @classmethod
-    def build(cls, model: Model, working_set: Any = None) -> list[Block]:
+    def build(cls, model: Model, working_set: WorkingSet = None) -> list[Block]:
         ids = [i for i, c in enumerate(model.scene.contacts) if c.angle is not None]
         if model.scene.wire.scheme != "paper" or not ids:
             return []

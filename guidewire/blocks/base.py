@@ -1,8 +1,9 @@
 """What every constraint block has in common: its rows as data, its loads on the wire, its violation.
 
 A block is one kind of constraint of a scene (a contact position, a contact angle, a wall, the b₂ bound, …) written
-once as *rows*, in one of two forms that both program layouts know how to state (:mod:`guidewire.formulation` for the
-reduced program in the bar angles ``φ``, :mod:`guidewire.full_space` for angles and node positions):
+once as *rows*, in one of two forms that both program layouts know how to state
+(:mod:`~guidewire.program.formulation` for the reduced program in the bar angles ``φ``,
+:mod:`guidewire.program.full_space` for angles and node positions):
 
 :class:`NodeRows`
     ``lb ≤ d_r · p_{k_r} ≤ ub`` — linear in a node position ``p_k`` (mm), one direction ``d_r`` per row. Nonlinear
@@ -21,6 +22,7 @@ returns its blocks, empty when the scene does not need the kind) and one line in
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, ClassVar
 
@@ -29,7 +31,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 if TYPE_CHECKING:
-    from ..model import Model
+    from ..program.model import Model
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int_]
@@ -133,6 +135,18 @@ def row_violation(values: FloatArray, lb: FloatArray, ub: FloatArray) -> FloatAr
     return np.maximum(np.maximum(lb - values, values - ub), 0.0)
 
 
+#: What a kind with a node working set constrains (:meth:`Block.build`): None (every node), ``"near"`` (the start's
+#: nodes near the constraint) or a mapping from :attr:`Block.key` to the nodes to constrain.
+WorkingSet = str | Mapping[tuple[str, tuple[int, ...]], Any] | None
+
+
+def grown_by_neighbours(nodes: IntArray, violated: IntArray, n: int) -> IntArray:
+    """``nodes`` with every ``violated`` node and its two neighbours added (nodes 1..n), sorted: how a block with a
+    node working set grows when the answer violates it."""
+    extra = np.clip(np.concatenate([violated - 1, violated, violated + 1]), 1, n)
+    return np.union1d(nodes, extra)
+
+
 @dataclass(frozen=True)
 class Block:
     """One constraint block: a kind, what it constrains, and its rows (see the module docstring).
@@ -157,7 +171,7 @@ class Block:
 
     # -- what every kind provides ------------------------------------------------------------------------------
     @classmethod
-    def build(cls, model: Model, working_set: Any = None) -> list[Block]:
+    def build(cls, model: Model, working_set: WorkingSet = None) -> list[Block]:
         """The blocks of this kind ``model.scene`` needs (none when it needs none).
 
         ``working_set`` is None (every node), ``"near"`` (kinds with a node working set: the start's nodes near the
@@ -213,6 +227,16 @@ class Block:
         its linearisation moved to ``phi`` — or None when its rows are right at ``phi`` (default: always right).
         :func:`guidewire.solve` solves again from ``phi`` while any block refines."""
         return None
+
+    def contact_normals(self, scene: Any) -> FloatArray | None:
+        """Outward unit normals (shape (rows, 2)) of a block whose multipliers are normal contact forces at its
+        nodes (walls, lumens), for :meth:`Solution.contacts`; None for the other kinds (default)."""
+        return None
+
+    def advanced(self, bars: int) -> Block:
+        """This block on the same wire ``bars`` bars longer at the entrance (insertion's warm start): rows that
+        follow the material move ``bars`` nodes on (walls, lumens); contact and angle rows stay (default)."""
+        return self
 
     def with_index(self, index: int) -> Block:
         return replace(self, index=index)

@@ -27,10 +27,10 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from .base import Block, FloatArray, IntArray, Loads, NodeRows
+from .base import Block, FloatArray, IntArray, Loads, NodeRows, WorkingSet, grown_by_neighbours
 
 if TYPE_CHECKING:
-    from ..model import Model
+    from ..program.model import Model
 
 NEAR_BARS = 3.0
 """Nodes closer to touching the wall than this many bar lengths get a row."""
@@ -93,7 +93,7 @@ class Lumen(Block):
     needed: FloatArray = field(default_factory=lambda: np.zeros(0), compare=False)
 
     @classmethod
-    def build(cls, model: Model, working_set: Any = None) -> list[Block]:
+    def build(cls, model: Model, working_set: WorkingSet = None) -> list[Block]:
         vessel = getattr(model.scene, "vessel", None)
         if vessel is None:
             return []
@@ -175,6 +175,11 @@ class Lumen(Block):
         stale = touching & (np.abs(slack[self.nodes - 1] - model_slack) > PLANE_TOLERANCE * tolerance)
         if not violated.size and not np.any(stale):
             return None
-        extra = np.clip(np.concatenate([violated - 1, violated, violated + 1]), 1, model.n)
-        nodes = np.union1d(self.nodes, extra)
+        nodes = grown_by_neighbours(self.nodes, violated, model.n)
         return replace(self._modelled(model, nodes, points), index=self.index)
+
+    def contact_normals(self, scene: Any) -> FloatArray:
+        return self.normals
+
+    def advanced(self, bars: int) -> Block:
+        return replace(self, nodes=self.nodes + bars)

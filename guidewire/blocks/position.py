@@ -3,14 +3,14 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
-from .base import Block, FloatArray, IntArray, Loads, NodeRows
+from .base import Block, FloatArray, IntArray, Loads, NodeRows, WorkingSet
 
 if TYPE_CHECKING:
-    from ..model import Model
+    from ..program.model import Model
 
 
 @dataclass(frozen=True)
@@ -23,7 +23,7 @@ class Position(Block):
     kind: ClassVar[str] = "position"
 
     @classmethod
-    def build(cls, model: Model, working_set: Any = None) -> list[Block]:
+    def build(cls, model: Model, working_set: WorkingSet = None) -> list[Block]:
         ids = [i for i, c in enumerate(model.scene.contacts) if c.point is not None]
         if not ids:
             return []

@@ -6,14 +6,14 @@ rows stay exact and linear; one row per node with a joint, the node's total angl
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
-from .base import AngleRows, Block
+from .base import AngleRows, Block, WorkingSet
 
 if TYPE_CHECKING:
-    from ..model import Model
+    from ..program.model import Model
 
 
 @dataclass(frozen=True)
@@ -25,7 +25,7 @@ class RelativeAngle(Block):
     unit: ClassVar[str] = "rad"
 
     @classmethod
-    def build(cls, model: Model, working_set: Any = None) -> list[Block]:
+    def build(cls, model: Model, working_set: WorkingSet = None) -> list[Block]:
         if model.scene.wire.max_relative_angle is None:
             return []
         joint_nodes = np.unique(model.energy.node)

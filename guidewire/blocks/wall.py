@@ -12,10 +12,10 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from .base import Block, FloatArray, IntArray, Loads, NodeRows
+from .base import Block, FloatArray, IntArray, Loads, NodeRows, WorkingSet, grown_by_neighbours
 
 if TYPE_CHECKING:
-    from ..model import Model
+    from ..program.model import Model
 
 WORKING_DISTANCE = 0.25
 """Nodes of the start closer to a wall than this fraction of the wire length get a wall row in the working set."""
@@ -35,7 +35,7 @@ class Wall(Block):
     kind: ClassVar[str] = "wall"
 
     @classmethod
-    def build(cls, model: Model, working_set: Any = None) -> list[Block]:
+    def build(cls, model: Model, working_set: WorkingSet = None) -> list[Block]:
         out: list[Block] = []
         n = model.n
         start = model.chain.nodes(model.x0) if model.scene.walls and isinstance(working_set, str) else None
@@ -85,6 +85,12 @@ class Wall(Block):
         violated = np.flatnonzero(self.gaps(model, model.chain.nodes(phi)) < -tolerance) + 1
         if not violated.size:
             return None
-        extra = np.clip(np.concatenate([violated - 1, violated, violated + 1]), 1, model.n)
-        nodes = np.union1d(self.nodes, extra)
+        nodes = grown_by_neighbours(self.nodes, violated, model.n)
         return None if nodes.size == self.nodes.size else replace(self, nodes=nodes)
+
+    def contact_normals(self, scene: Any) -> FloatArray:
+        normal, _ = scene.walls[self.members[0]].unit()
+        return np.tile(np.asarray(normal, dtype=float), (self.size, 1))
+
+    def advanced(self, bars: int) -> Block:
+        return replace(self, nodes=self.nodes + bars)

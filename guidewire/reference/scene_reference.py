@@ -18,8 +18,8 @@ from .shapes import Array, ContinuumShape
 from .whole_wire import reference_shapes
 
 if TYPE_CHECKING:
-    from ..result import Solution
-    from ..scene import Scene
+    from ..scene.scene import Scene
+    from ..solve.result import Solution
 
 __all__ = ["ContinuumReference", "continuum_reference", "nearest_shape", "node_errors"]
 

@@ -171,32 +171,50 @@ def reference_shapes(
     if profile is not None:
         shapes = sectioned_shapes(base_point, base_angle, clamps, total_length, profile, wall_list, MAX_TIES)
     elif not clamps:
-        straight = straight_shape(base_point, base_angle, total_length, EI)
-        active = [i for i, (n, c) in enumerate(wall_list) if max_wall_violation(straight, n, c, 3) > 0.0]
-        if len(active) > 1:
-            raise NotImplementedError(
-                f"the straight wire crosses {len(active)} walls ({active}); only one active wall is supported"
-            )
-        shapes = [straight]
-        if active:
-            n, c = wall_list[active[0]]
-            shapes = ties(wall_shapes(base_point, base_angle, total_length, n, c, EI))
+        shapes = _free_shapes(base_point, base_angle, total_length, EI, wall_list)
     else:
-        options: list[list[list[ElasticaPiece]]] = []  # per segment: the pieces of each tied minimiser
-        s_prev, p_prev, a_prev = 0.0, base_point, base_angle
-        for s, point, angle in clamps:
-            segment = ties(clamped_segment_equilibria(p_prev, a_prev, point, angle, s - s_prev, EI))
-            options.append([[shifted_piece(piece, s_prev) for piece in sh.pieces] for sh in segment])
-            s_prev, p_prev, a_prev = s, point, angle
-        tail = []
-        if total_length - s_prev > 1e-12 * total_length:
-            tail = [straight_piece(s_prev, total_length - s_prev, p_prev, a_prev)]
-        supports = [(s, "clamp") for s, _, _ in clamps]
-        shapes = [
-            assemble([p for seg in combo for p in seg] + tail, total_length, EI, base_point, supports)
-            for combo in itertools.islice(itertools.product(*options), MAX_TIES)
-        ]
-    tol = 1e-9 * max(1.0, total_length)
+        shapes = _clamped_shapes(base_point, base_angle, clamps, total_length, EI)
+    _check_walls(shapes, wall_list, 1e-9 * max(1.0, total_length))
+    return shapes
+
+
+def _free_shapes(base_point: Array, base_angle: float, total_length: float, EI: float,
+                 wall_list: list[Any]) -> list[ContinuumShape]:
+    """No contacts: the straight wire, or the shapes against the one wall it would cross."""
+    straight = straight_shape(base_point, base_angle, total_length, EI)
+    active = [i for i, (n, c) in enumerate(wall_list) if max_wall_violation(straight, n, c, 3) > 0.0]
+    if len(active) > 1:
+        raise NotImplementedError(
+            f"the straight wire crosses {len(active)} walls ({active}); only one active wall is supported"
+        )
+    if not active:
+        return [straight]
+    n, c = wall_list[active[0]]
+    return ties(wall_shapes(base_point, base_angle, total_length, n, c, EI))
+
+
+def _clamped_shapes(base_point: Array, base_angle: float, clamps: list[Any], total_length: float,
+                    EI: float) -> list[ContinuumShape]:
+    """Fully clamped contacts: every combination (at most ``MAX_TIES``) of each segment's tied minimisers, and a
+    straight free end."""
+    options: list[list[list[ElasticaPiece]]] = []  # per segment: the pieces of each tied minimiser
+    s_prev, p_prev, a_prev = 0.0, base_point, base_angle
+    for s, point, angle in clamps:
+        segment = ties(clamped_segment_equilibria(p_prev, a_prev, point, angle, s - s_prev, EI))
+        options.append([[shifted_piece(piece, s_prev) for piece in sh.pieces] for sh in segment])
+        s_prev, p_prev, a_prev = s, point, angle
+    tail = []
+    if total_length - s_prev > 1e-12 * total_length:
+        tail = [straight_piece(s_prev, total_length - s_prev, p_prev, a_prev)]
+    supports = [(s, "clamp") for s, _, _ in clamps]
+    return [
+        assemble([p for seg in combo for p in seg] + tail, total_length, EI, base_point, supports)
+        for combo in itertools.islice(itertools.product(*options), MAX_TIES)
+    ]
+
+
+def _check_walls(shapes: list[ContinuumShape], wall_list: list[Any], tol: float) -> None:
+    """Refuse shapes that cross a wall by more than ``tol`` (walls combined with contacts are not supported)."""
     for shape in shapes:
         for i, (n, c) in enumerate(wall_list):
             excess = max_wall_violation(shape, n, c)
@@ -205,4 +223,3 @@ def reference_shapes(
                     f"walls[{i}] is crossed by {excess:.4g} mm by the wall-free solution: active walls "
                     "combined with contacts (or with other walls) are not supported by the reference"
                 )
-    return shapes

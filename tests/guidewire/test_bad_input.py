@@ -13,9 +13,10 @@ import warnings
 import pytest
 
 import sqp
-from guidewire import Section, Vessel, Wire, cli, load_scene, solve
-from guidewire.feasibility import infeasibility
+from guidewire import Section, Vessel, Wire, load_scene, solve
+from guidewire.app import cli
 from guidewire.fields import SuspiciousValueWarning
+from guidewire.program.feasibility import infeasibility
 
 VALID = """\
 [wire]

@@ -15,10 +15,13 @@ import pytest
 from scipy.interpolate import BSpline
 
 import guidewire
-from guidewire import SceneError, cli, export, solve, solve_many
-from guidewire.batch import done_files, slim, solve_files, solve_iter, solve_one
-from guidewire.export import load_shapes, read_records, save_shapes, wire_spline
-from guidewire.paper import paper_scenes, scene_path
+from guidewire import SceneError, solve, solve_many
+from guidewire.app import cli
+from guidewire.app.export import load_shapes, read_records, save_shapes, wire_spline
+from guidewire.batch.files import done_files, solve_files
+from guidewire.batch.scenes import slim, solve_iter, solve_one
+from guidewire.chain import spline as spline_module
+from guidewire.scene.paper import paper_scenes, scene_path
 
 INFEASIBLE = "table5"
 
@@ -278,7 +281,7 @@ def test_spline_export_reproduces_the_nodes(tmp_path, serial, monkeypatch):
         assert length == pytest.approx(sol.scene.wire.length, rel=1e-2)  # ≤ 0.6 % longer here
     # the older scipy path (splprep) gives the same spline
     modern = wire_spline(solved[0].nodes, solved[0].s)
-    monkeypatch.setattr(export, "make_splprep", None)
+    monkeypatch.setattr(spline_module, "make_splprep", None)
     legacy = wire_spline(solved[0].nodes, solved[0].s)
     assert np.array_equal(legacy.knots, modern.knots)
     assert np.allclose(legacy.coefficients, modern.coefficients, rtol=0, atol=1e-9)
@@ -292,7 +295,7 @@ def test_spline_export_reproduces_the_nodes(tmp_path, serial, monkeypatch):
 
 def test_default_pool_workers_run_one_blas_thread():
     threadpoolctl = pytest.importorskip("threadpoolctl")
-    from guidewire.batch import default_executor
+    from guidewire.batch.scenes import default_executor
 
     with default_executor(1) as pool:
         assert pool.submit(solve_one, SCENES[0], {}).result().success  # numpy and its BLAS are loaded
@@ -304,7 +307,7 @@ def test_insertions_on_a_process_pool_match_serial_inserts():
     from concurrent.futures import ProcessPoolExecutor
 
     from guidewire import insert
-    from guidewire.batch_insert import insert_many
+    from guidewire.batch.insertions import insert_many
 
     fig6b = guidewire.paper_scenes()["fig6b"].with_wire(length=40.0, bars=40)
     jobs = [(fig6b, [40.0, 45.0, 50.0, 55.0]), (fig6b, [40.0, 50.0, 60.0]), (fig6b, [50.0, 40.0])]

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from guidewire.export import read_records
+from guidewire.app.export import read_records
 
 BEND = Path(str(resources.files("guidewire") / "scenes" / "vessels" / "bend.toml"))
 

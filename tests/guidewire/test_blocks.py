@@ -10,11 +10,11 @@ from typing import ClassVar
 import numpy as np
 import pytest
 
-import guidewire.formulation
+import guidewire.program.formulation
 from guidewire import Base, Scene, Wall, Wire, formulate, paper_scenes, solve, solve_sequence
 from guidewire.blocks import BLOCK_TYPES, Block, Loads, NodeRows
 from guidewire.fields import SuspiciousValueWarning
-from guidewire.scene_file import scene_from_dict
+from guidewire.scene.file import scene_from_dict
 
 SCENES = paper_scenes()
 
@@ -76,7 +76,7 @@ def test_a_new_kind_is_one_class_and_one_registration(monkeypatch, layout):
     same answer as the equivalent wall ``−y ≤ 5``."""
     clamped = Scene(Wire(60.0, 30), Base((0.0, 0.0), -0.6))  # clamped pointing down: the free wire crosses y = -5
     walled = solve(replace(clamped, walls=(Wall((0.0, -1.0), 5.0),)), layout=layout)
-    monkeypatch.setattr(guidewire.formulation, "BLOCK_TYPES", (*BLOCK_TYPES, Floor))
+    monkeypatch.setattr(guidewire.program.formulation, "BLOCK_TYPES", (*BLOCK_TYPES, Floor))
     floored = solve(clamped, layout=layout)
     assert walled.success and floored.success, (walled.message, floored.message)
     assert [b.kind for b in floored.blocks] == ["floor"]

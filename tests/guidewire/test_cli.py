@@ -11,8 +11,8 @@ import sys
 import pytest
 
 import sqp
-from guidewire import cli, reproduction
-from guidewire.paper import paper_scenes, scene_path
+from guidewire.app import cli, reproduction
+from guidewire.scene.paper import paper_scenes, scene_path
 from sqp import installed_solvers
 
 REQUIRED = {"success", "status", "message", "energy", "nodes", "s", "tangent_angles", "bending_stress_mpa",

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from guidewire import Base, Scene, Wall, Wire, solve
-from guidewire.crossing import crossing_bars
+from guidewire.chain.crossing import crossing_bars
 
 
 def _brute(p):
@@ -65,7 +65,7 @@ def test_two_wall_channel_gives_the_straight_wire_not_a_coil():
 
 def _brute_touching(p, tolerance=1e-9):
     """The first pair by :func:`guidewire.crossing._segments_cross` over every non-adjacent pair (touching included)."""
-    from guidewire.crossing import _segments_cross
+    from guidewire.chain.crossing import _segments_cross
 
     a, b = p[:-1], p[1:]
     scale = tolerance * np.hypot(*(b - a).T).max()

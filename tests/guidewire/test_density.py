@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 from guidewire import Scene, Section, Wire, load_scene, paper_scenes, scene_to_toml, solve
-from guidewire.chain import place_bars, scene_bars
-from guidewire.density import curvature_density, graded_bars
+from guidewire.chain.density import curvature_density, graded_bars
+from guidewire.chain.kinematics import place_bars, scene_bars
 from guidewire.reference import continuum_reference
 from guidewire.reference.scene_reference import node_errors
-from guidewire.refine import graded_scene
+from guidewire.solve.refine import graded_scene
 
 SCENES = paper_scenes()
 

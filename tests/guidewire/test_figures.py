@@ -9,7 +9,7 @@ import matplotlib.colors as mcolors
 import pytest
 
 import guidewire
-from guidewire.plot import FAILURE_COLOR, plot_solution
+from guidewire.app.plot import FAILURE_COLOR, plot_solution
 
 VESSELS = resources.files("guidewire") / "scenes" / "vessels"
 
@@ -52,7 +52,7 @@ def test_an_insertion_gif_renders_its_background_once(tmp_path):
     import numpy as np
     from PIL import Image
 
-    from guidewire.plot_insertion import save_animation
+    from guidewire.app.plot_insertion import save_animation
 
     scene = guidewire.load_scene(str(VESSELS / "aortic_arch.toml"))
     ins = guidewire.insert(scene.with_wire(length=20.0, bars=20), np.linspace(20.0, 120.0, 100))
@@ -77,7 +77,7 @@ def test_an_insertion_gif_renders_its_background_once(tmp_path):
 
 def test_overlaid_shapes_are_named_and_the_pose_labels_drawn_once():
     """Fig. 4 draws five shapes in one panel: each carries its θ_B, and A and B are labelled once each."""
-    from guidewire.plot import plot_group
+    from guidewire.app.plot import plot_group
 
     group = guidewire.paper_groups()["fig4"]
     sols = [guidewire.solve(scene, bars=30) for scene in group]

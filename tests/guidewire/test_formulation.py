@@ -7,9 +7,9 @@ import pytest
 from scipy.optimize import LinearConstraint
 
 from guidewire import Base, Contact, Scene, Wall, Wire, paper_scenes
-from guidewire.chain import BarChain, place_bars
+from guidewire.chain.kinematics import BarChain, place_bars
 from guidewire.energy import bending_terms
-from guidewire.formulation import formulate
+from guidewire.program.formulation import formulate
 
 EI = 64.65
 
@@ -168,8 +168,8 @@ def test_bad_options():
 
 
 def test_curvature_term_is_the_sum_of_the_rows_jacobian_products():
-    from guidewire.chain import BarChain
-    from guidewire.reduced import _curvature_term
+    from guidewire.chain.kinematics import BarChain
+    from guidewire.program.reduced import _curvature_term
 
     rng = np.random.default_rng(3)
     n = 12
@@ -200,7 +200,7 @@ def test_model_reuse_keeps_only_what_the_scenes_share(scheme):
     value moves, nothing when the wire changes — and every model it gives equals one built anew, bit for bit."""
     from dataclasses import replace
 
-    from guidewire.model import ModelReuse, build_model
+    from guidewire.program.model import ModelReuse, build_model
 
     base = paper_scenes()["table2_pi_4"].with_scheme(scheme)
     c = base.contacts[-1]
@@ -229,7 +229,7 @@ def test_tridiagonal_energy_hessian_is_two_dt_c_d_exactly(scheme):
 
     import guidewire
     from guidewire.energy import _general_hessian
-    from guidewire.model import build_model
+    from guidewire.program.model import build_model
 
     for path in sorted((Path(guidewire.__file__).parent / "scenes").rglob("*.toml")):
         scene = guidewire.load_scene(path).with_scheme(scheme)

@@ -11,8 +11,8 @@ from scipy.optimize import LinearConstraint
 
 import sqp
 from guidewire import Base, Contact, Scene, Wall, Wire, formulate, paper_scenes, solve
-from guidewire.full_space import POLISH_TOLERANCE
-from guidewire.result import build_solution
+from guidewire.program.full_space import POLISH_TOLERANCE
+from guidewire.solve.result import build_solution
 from sqp.hessian import convexify
 
 SCENES = paper_scenes()

@@ -11,7 +11,7 @@ import pytest
 import guidewire
 from guidewire import Scene, Wall, Wire
 from guidewire import initial_shape as shape
-from guidewire.chain import BarChain, scene_bars
+from guidewire.chain.kinematics import BarChain, scene_bars
 
 SCENES = sorted((Path(guidewire.__file__).parent / "scenes").rglob("*.toml"))
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from guidewire import insert, paper_scenes, solve
-from guidewire.crossing import crossing_bars
+from guidewire.chain.crossing import crossing_bars
 
 FIG6B = paper_scenes()["fig6b"]  # clamp at O along +x, the wall x ≤ 45 straight ahead
 
@@ -123,8 +123,8 @@ def test_step_flags_name_what_a_user_must_notice(monkeypatch):
     from dataclasses import replace
 
     import guidewire
-    from guidewire import insertion
-    from guidewire.insertion import step_flags
+    from guidewire.march import insertion
+    from guidewire.march.insertion import step_flags
 
     sol = guidewire.solve(guidewire.paper_scenes()["fig6b"])
     assert sol.success and step_flags(sol, "warm") == []

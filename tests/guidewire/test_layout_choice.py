@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 import guidewire
-from guidewire.solve import FULL_SPACE_BARS, choose_layout
+from guidewire.solve.options import FULL_SPACE_BARS, choose_layout
 
 SCENES = guidewire.paper_scenes()
 

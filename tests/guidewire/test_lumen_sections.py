@@ -10,7 +10,7 @@ import pytest
 import guidewire
 from guidewire import Base, Scene, Section, Vessel, Wall, Wire, solve
 from guidewire.blocks.lumen import node_diameters
-from guidewire.model import build_model
+from guidewire.program.model import build_model
 
 J_TIP = Section.arc(12.1, 0.4 * math.pi, youngs_modulus=17_000.0, diameter=0.7)
 SHAFT = {"youngs_modulus": 80_000.0, "diameter": 0.89}

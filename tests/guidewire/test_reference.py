@@ -589,7 +589,7 @@ def test_sectioned_reference_of_a_free_j_tip_is_its_rest_shape():
 
 def test_sectioned_reference_of_the_j_tip_scene_presses_the_tip_on_the_wall():
     from guidewire import load_scene
-    from guidewire.paper import scene_path
+    from guidewire.scene.paper import scene_path
 
     reference, why = continuum_reference(load_scene(scene_path("j_tip")))
     assert why == ""

@@ -8,11 +8,12 @@ import json
 import numpy as np
 import pytest
 
-from guidewire import cli, paper_scenes, solve
-from guidewire.chain import scene_bars
-from guidewire.paper import scene_path
+from guidewire import paper_scenes, solve
+from guidewire.app import cli
+from guidewire.chain.kinematics import scene_bars
 from guidewire.reference import continuum_reference
 from guidewire.reference.scene_reference import node_errors
+from guidewire.scene.paper import scene_path
 
 SCENES = paper_scenes()
 WITH_REFERENCE = [name for name in SCENES if name != "table5"]

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import guidewire
-from guidewire.result import shape_defect
+from guidewire.solve.result import shape_defect
 
 VESSELS = resources.files("guidewire") / "scenes" / "vessels"
 
@@ -53,9 +53,9 @@ def test_a_vessel_too_large_for_memory_is_refused_before_any_work(monkeypatch, c
     import importlib
     import time
 
-    from guidewire import cli
+    from guidewire.app import cli
 
-    front = importlib.import_module("guidewire.solve")  # (the module: guidewire.solve is also the function)
+    front = importlib.import_module("guidewire.solve.options")
 
     monkeypatch.setattr(front, "available_memory", lambda: int(available_gib * 2**30))
     scene = guidewire.load_scene(str(VESSELS / "bend.toml"))

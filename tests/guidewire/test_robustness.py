@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from guidewire import Base, Contact, Scene, Wall, Wire, paper_scenes, solve
-from guidewire.feasibility import infeasibility
 from guidewire.fields import SuspiciousValueWarning
-from guidewire.result import SHAPE_REJECTED
+from guidewire.program.feasibility import infeasibility
+from guidewire.status import SHAPE_REJECTED
 
 
 def test_nearly_taut_stretch_between_two_points_is_solved_by_the_bfgs_fallback():

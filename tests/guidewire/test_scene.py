@@ -7,8 +7,8 @@ import math
 import pytest
 
 from guidewire import Base, Contact, Scene, Wall, Wire, load_scene, paper_scenes, scene_to_toml
-from guidewire.feasibility import check_feasible, infeasibility
-from guidewire.paper import paper_wire, scene_path
+from guidewire.program.feasibility import check_feasible, infeasibility
+from guidewire.scene.paper import paper_wire, scene_path
 
 
 def _scene(**changes):

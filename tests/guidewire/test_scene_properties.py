@@ -1,10 +1,10 @@
 """Property-based tests on random feasible scenes (hypothesis; profiles in tests/conftest.py).
 
-A scene is generated from a random smooth bar chain (:mod:`guidewire.chain_scenes`): contacts sit on its nodes, some
+A scene is generated from a random smooth bar chain (:mod:`guidewire.scene.generated`): contacts sit on its nodes, some
 with the position only, optionally a wall it does not cross and a b₂ it satisfies, so the chain is a feasible point
 and the solver's minimum cannot have a higher energy. An answer above it is a *branch miss*: a local minimum the
 start led to. With the default start alone (``branches="first"``) 8 of the benchmark's 800 scenes (seed 2019) miss,
-by up to 18 %; ``solve``'s default ``branches="lowest"`` (:mod:`guidewire.branches`) misses none
+by up to 18 %; ``solve``'s default ``branches="lowest"`` (:mod:`guidewire.solve.branches`) misses none
 (``benchmarks/results/branches.md``). The property test asserts no miss on its examples; the seeded test below counts
 the misses on the benchmark's missed scenes in both modes.
 """
@@ -19,8 +19,8 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from guidewire import Base, Contact, Scene, Wire, solve
-from guidewire.chain_scenes import ChainScene, chain_scene, min_gap_nodes, random_chain_scene
-from guidewire.formulation import formulate
+from guidewire.program.formulation import formulate
+from guidewire.scene.generated import ChainScene, chain_scene, min_gap_nodes, random_chain_scene
 
 finite = {"allow_nan": False, "allow_infinity": False}
 
@@ -52,7 +52,7 @@ def chain_scenes(draw):
                 draw(st.floats(0.0, 0.2, **finite), label="wall margin"))
     b2 = draw(st.floats(1.2, 3.0, **finite), label="b2 factor") if draw(st.booleans(), label="b2") else None
     case = chain_scene(n, length, scheme, modes, theta0, base, sorted(ks), with_angle, wall, b2)
-    assume(case is not None)  # nearly taut stretches: see guidewire.chain_scenes.MIN_SLACK
+    assume(case is not None)  # nearly taut stretches: see guidewire.scene.generated.MIN_SLACK
     return case.scene, case.angles
 
 
@@ -139,7 +139,7 @@ def test_known_two_branch_scene_keeps_the_lower_branch():
 def test_tangent_scan_finds_the_branch_the_mirror_starts_miss():
     """A hand-written scene (a pin at s = 40 mm and a clamped tip 15.7 mm from it): the default start and both mirror
     starts end at 37.09 N·mm with the pin's tangent at 0.80 rad; continuation along a tip path reaches a valid
-    23.58 N·mm with it at 1.41 rad. The tangent scan (:mod:`guidewire.branches`) must find that branch, and the
+    23.58 N·mm with it at 1.41 rad. The tangent scan (:mod:`guidewire.solve.branches`) must find that branch, and the
     mirrored scene the mirrored answer."""
     wire = Wire(70.0, 100, youngs_modulus=60000.0, diameter=0.4)
     scene = Scene(wire, Base((0.0, 0.0), 0.3), (Contact(40.0, (30.0, 18.0)), Contact(70.0, (44.0, 11.0), -0.9)))

@@ -59,7 +59,7 @@ def test_steady_advance_uses_the_polynomial_predictor():
 def test_the_predictor_extrapolates_through_successful_answers_of_one_layout_only():
     """The predictor's points: the last answers that succeeded with the new step's bar count, joined by parallel
     scene changes; a quadratic's weights reproduce a quadratic exactly."""
-    from guidewire.sequence import _lagrange_weights, _positions, _scene_parameters, _steady_points
+    from guidewire.march.sequence import _lagrange_weights, _positions, _scene_parameters, _steady_points
 
     scenes = _sliding(5)
     sols = list(guidewire.solve_sequence(scenes[:4]))
@@ -81,7 +81,7 @@ def test_the_predictor_extrapolates_through_successful_answers_of_one_layout_onl
 
 
 def test_secant_factor_only_for_parallel_changes():
-    from guidewire.sequence import secant_factor as _secant_factor
+    from guidewire.march.sequence import secant_factor as _secant_factor
 
     a, b, c, _ = _sliding(4)
     assert _secant_factor(a, b, c) == pytest.approx(1.0)
@@ -93,7 +93,7 @@ def test_secant_factor_only_for_parallel_changes():
 def test_reused_models_give_the_answers_of_models_built_anew():
     """``solve_sequence`` keeps the bar layout and the energy between steps when only targets move: the same shapes
     (to 1e-9 mm), energies and iteration counts as building every step's program anew (``reuse=None``)."""
-    from guidewire.model import ModelReuse
+    from guidewire.program.model import ModelReuse
 
     scenes = _sliding(6)
     reuse = ModelReuse()

@@ -6,9 +6,9 @@ from dataclasses import replace
 
 import numpy as np
 
-import guidewire.sequence as sequence
+import guidewire.march.sequence as sequence
 from guidewire import formulate, paper_scenes, solve, solve_sequence
-from guidewire.formulation import BlockMultipliers
+from guidewire.program.formulation import BlockMultipliers
 
 
 def _sliding(steps: int) -> list:

@@ -12,7 +12,7 @@ import pytest
 
 import guidewire
 from guidewire import initial_shape as shape
-from guidewire.chain import BarChain, scene_bars
+from guidewire.chain.kinematics import BarChain, scene_bars
 
 SCENES = sorted(p for p in (Path(guidewire.__file__).parent / "scenes").glob("*.toml") if p.stem != "table5")
 

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from guidewire import Base, Contact, Scene, Wire, load_scene, scene_to_toml
-from guidewire.feasibility import check_feasible, infeasibility
-from guidewire.vessel import Branch, Vessel
+from guidewire.program.feasibility import check_feasible, infeasibility
+from guidewire.vessel.vessel import Branch, Vessel
 
 RHO, R = 30.0, 2.0  # the circular bend: centreline radius, lumen radius (mm)
 VESSELS = Path(str(resources.files("guidewire") / "scenes" / "vessels"))

@@ -11,8 +11,8 @@ import pytest
 
 import guidewire
 from guidewire import Base, Contact, Scene, Vessel, Wall, Wire, insert, paper_scenes, solve
-from guidewire.crossing import crossing_bars
-from guidewire.result import VIOLATION_FACTOR
+from guidewire.chain.crossing import crossing_bars
+from guidewire.solve.result import VIOLATION_FACTOR
 
 VESSELS = "guidewire/scenes/vessels"
 

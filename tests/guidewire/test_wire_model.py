@@ -12,11 +12,11 @@ import numpy as np
 import pytest
 
 from guidewire import Base, Contact, Scene, Section, Wall, Wire, insert, load_scene, paper_scenes, solve
-from guidewire.chain import place_bars, scene_bars
-from guidewire.feasibility import infeasibility
-from guidewire.model import build_model
-from guidewire.paper import scene_path
-from guidewire.scene_file import scene_from_dict, scene_to_toml
+from guidewire.chain.kinematics import place_bars, scene_bars
+from guidewire.program.feasibility import infeasibility
+from guidewire.program.model import build_model
+from guidewire.scene.file import scene_from_dict, scene_to_toml
+from guidewire.scene.paper import scene_path
 
 # stEVE's J wire: a tip arc of radius 12.1 mm over 0.4π, tip E 17 GPa / OD 0.7 mm, shaft E 80 GPa / OD 0.89 mm.
 J_RADIUS, J_ANGLE = 12.1, 0.4 * math.pi

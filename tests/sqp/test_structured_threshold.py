@@ -9,6 +9,7 @@ import pytest
 import scipy.sparse as sp
 
 import guidewire
+import guidewire.program.reduced
 import sqp
 from sqp import hessian, hessian_strategy, iterate, structured
 
@@ -81,7 +82,7 @@ def test_contact_scene_at_200_bars_same_answer_as_the_dense_path(monkeypatch, na
     assert calls  # structured: W factorised as a sparse banded matrix
     monkeypatch.undo()
     _force_dense(monkeypatch)
-    monkeypatch.setattr(guidewire.reduced, "STRUCTURED_MIN", hessian.DENSE_LIMIT)
+    monkeypatch.setattr(guidewire.program.reduced, "STRUCTURED_MIN", hessian.DENSE_LIMIT)
     calls = _count_factorisations(monkeypatch)
     dense = guidewire.solve(scene, bars=N)
     assert not calls and dense.success

@@ -1,0 +1,125 @@
+"""What one solve is asked to do: :class:`SolveOptions`, the layout ``"auto"`` picks (:func:`choose_layout`) and the
+memory check that refuses a vessel scene too large for a dense program (:func:`check_memory`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import sqp
+
+from ..scene.scene import Scene
+
+#: sqp's own stopping defaults (:class:`sqp.Options`), which guidewire passes on unchanged.
+TOL: float = sqp.Options.tol
+MAX_ITER: int = sqp.Options.max_iter
+
+#: ``layout="auto"`` uses the full-space program above this many bars for scenes with walls (see
+#: :func:`choose_layout`): :data:`sqp.DENSE_LIMIT`, the most the reduced program's dense wall rows stay with DAQP
+#: (measured with DAQP in the Hessian factor's coordinates, :data:`sqp.backends.LDP_MIN_VARIABLES`: Fig. 6a / 6b
+#: reduced 6.9 / 6.7 ms against full 13.7 / 16.3 ms at 200 bars, 14.1 / 13.7 against 20.8 / 20.5 ms at 300).
+FULL_SPACE_BARS: int = sqp.DENSE_LIMIT
+
+#: Values of ``solve(hessian=...)`` and ``solve(layout=...)``.
+HESSIANS = ("exact", "bfgs")
+LAYOUT_CHOICES = ("auto", "reduced", "full")
+
+
+@dataclass(frozen=True)
+class SolveOptions:
+    """Everything :func:`guidewire.solve` passes down its pipeline besides the scene (the parameters of
+    :func:`guidewire.solve`, checked by it; ``tol_mm`` and ``density`` are the front door's, resolved before).
+
+    ``initial_angles``, ``initial_nodes`` and ``multipliers0`` are the start; ``reuse`` a
+    :class:`~guidewire.program.model.ModelReuse`; ``qp_solver``, ``qp_options``, ``tol``, ``max_iter`` and
+    ``verbose`` go to :func:`sqp.minimize` (:meth:`minimize_options`)."""
+
+    scheme: str | None = None
+    bars: int | None = None
+    initial_angles: Any = None
+    initial_nodes: Any = None
+    hessian: str = "exact"
+    layout: str = "auto"
+    multipliers0: Any = None
+    qp_solver: str | None = None
+    qp_options: dict[str, Any] | None = None
+    tol: float = TOL
+    max_iter: int = MAX_ITER
+    verbose: bool = False
+    reuse: Any = None
+    branches: str = "lowest"
+
+    def minimize_options(self) -> dict[str, Any]:
+        """The keyword arguments of :func:`sqp.minimize` these options set (no ``qp_solver`` for sqp's choice)."""
+        options = {"qp_solver": None if self.qp_solver == "auto" else self.qp_solver, "qp_options": self.qp_options,
+                   "tol": self.tol, "max_iter": self.max_iter, "verbose": self.verbose}
+        if options["qp_solver"] is None:
+            del options["qp_solver"]
+        return options
+
+    @property
+    def given_start(self) -> bool:
+        """Whether the start is the caller's (then it chooses the branch: no mirror starts)."""
+        return self.initial_angles is not None or self.initial_nodes is not None
+
+    def check(self) -> None:
+        """Raise ValueError for a Hessian or layout :func:`guidewire.solve` does not know, or that do not mix."""
+        if self.hessian not in HESSIANS:
+            raise ValueError(f"hessian is {self.hessian!r}; expected 'exact' or 'bfgs'.")
+        if self.layout not in LAYOUT_CHOICES:
+            raise ValueError(f"layout is {self.layout!r}; expected 'auto', 'reduced' or 'full'.")
+        if self.layout == "full" and self.hessian != "exact":
+            raise ValueError("layout='full' needs hessian='exact' (the BFGS path is the paper's reduced program).")
+
+
+def choose_layout(bars: int, hessian: str = "exact", scene: Scene | None = None) -> str:
+    """What ``layout="auto"`` means: the reduced program (angles only) for contact scenes at every ``n`` and for
+    wall scenes up to :data:`FULL_SPACE_BARS` bars; the full-space one (:mod:`guidewire.program.full_space`: angles
+    and nodes, every row sparse) for wall scenes above, with the exact Hessian.
+
+    Contact scenes (no walls, no vessel) have equality-only subproblems with a few dense rows and a banded energy
+    Hessian: above :data:`sqp.STRUCTURED_MIN` the engine solves them by a structured KKT solve
+    (:mod:`sqp.structured`), Newton's step in 3-4 iterations at every n. Measured, reduced against full in one
+    process (medians of 5, BLAS one thread): Table 1 (π/4) 0.50x / 0.29x / 0.17x the time at 200 / 400 / 1600
+    bars, Table 2 (π/4) 0.47x / 0.37x / 0.20x, Table 1 (-π/2) and Table 2 (π/2) alike. Wall rows are
+    inequalities, dense in the reduced program: measured on Fig. 6a at 400 / 1600 bars reduced 2.1 s / 76 s, full
+    28 ms / 0.10 s. The BFGS path stays reduced (the paper's algorithm), and so do vessel scenes: with the lumen's
+    curved (quadratic) rows the full-space program is not yet reliable (the aortic arch at 245 bars ended MAX_ITER
+    three rounds running, where the reduced one converges)."""
+    if scene is not None and (scene.vessel is not None or not scene.walls):
+        return "reduced"
+    return "full" if hessian == "exact" and bars > FULL_SPACE_BARS else "reduced"
+
+
+#: Peak memory of a vessel scene's dense program of bar angles, in units of ``n^2`` float64 values (``n`` bars):
+#: measured 24-26 from the peak resident size at 200, 400 and 800 bars (the dense Hessian, its factor, the lumen
+#: rows' Jacobian and the QP's copies).
+DENSE_COPIES = 26
+
+
+def available_memory() -> int | None:
+    """Bytes of memory available to a new allocation (``MemAvailable`` of ``/proc/meminfo``), or None where unknown."""
+    try:
+        with open("/proc/meminfo") as info:
+            for line in info:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        return None
+    return None
+
+
+def check_memory(scene: Scene, bars: int, layout: str = "auto") -> None:
+    """Refuse, before any work, a vessel scene whose dense program of bar angles would not fit in memory: a
+    ValueError that gives the memory needed, the memory available and the largest bar count that fits."""
+    if scene.vessel is None or layout == "full":
+        return
+    need = DENSE_COPIES * 8.0 * float(bars) ** 2
+    have = available_memory()
+    if have is None or need <= have:
+        return
+    fits = int((have / (DENSE_COPIES * 8.0)) ** 0.5)
+    raise ValueError(
+        f"a vessel scene with {bars} bars needs about {need / 2**30:.1f} GiB for its dense program of bar angles "
+        f"({DENSE_COPIES} n² double values), more than the {have / 2**30:.1f} GiB available; use at most {fits} "
+        "bars (bars = ..., or fewer bars per mm in the scene file).")

@@ -1,0 +1,152 @@
+"""The solve pipeline, one scene and one :class:`~guidewire.solve.options.SolveOptions` through it: formulate →
+:func:`sqp.minimize` → working-set rounds → damped-BFGS fallback → :class:`~guidewire.solve.result.Solution`, then the
+mirror starts of :mod:`guidewire.solve.branches`. :func:`guidewire.solve` checks the options and calls :func:`run`;
+so do the refinement (:mod:`guidewire.solve.refine`) and the continuation drivers."""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import time
+from collections.abc import Sequence
+from dataclasses import replace
+from typing import Any
+
+from threadpoolctl import ThreadpoolController
+
+import sqp
+
+from ..program.formulation import BlockMultipliers, Formulation, assemble, formulate
+from ..scene.scene import Scene
+from .branches import candidate_iterations, lowest_branch
+from .options import SolveOptions, check_memory, choose_layout
+from .result import Solution, build_solution
+
+#: Rounds of the working set: solve, refine every block whose rows do not fit the answer (a wall: add the violating
+#: nodes and their neighbours; a lumen: move its tangent planes), solve again from the answer.
+MAX_ROUNDS = 8
+
+#: The damped-BFGS retry of :func:`solve_once` may take ``min(max_iter, max(FALLBACK_MIN_ITER, max_iter // 5))``
+#: iterations (it needed 12 where the exact-Hessian run stalled; an infeasible scene fails twice, the second time
+#: quickly; the user's ``max_iter`` is never exceeded).
+FALLBACK_MIN_ITER = 50
+
+#: Outcomes of an exact-Hessian solve after which :func:`solve_once` tries the damped-BFGS algorithm from the same
+#: start.
+FALLBACK_STATUSES = tuple(status.code for status in (
+    sqp.Status.MAX_ITER, sqp.Status.LINE_SEARCH, sqp.Status.SMALL_STEP, sqp.Status.INFEASIBLE, sqp.Status.QP_FAILED))
+
+#: The name :attr:`Solution.fallback` gives the retry.
+FALLBACK = "damped BFGS"
+
+#: BLAS threads while solving: the matrices are small (≤ 300 variables dense; the full space is sparse), where a
+#: second BLAS thread only adds synchronisation (on Table 1, θ_B = π/4, 100 bars, on a 2-core machine under load:
+#: 47.7 ms with OpenBLAS's default 2 threads, 7.2 ms with 1). The caller's setting is restored after.
+BLAS_THREADS = 1
+
+
+def run(scene: Scene, options: SolveOptions) -> Solution:
+    """Solve ``scene`` with checked ``options``: from the default start (or the given one), then, with
+    ``branches="lowest"`` and no given start, from the mirror starts of :mod:`guidewire.solve.branches`, keeping the
+    lowest energy. Raises ValueError before any work for a vessel scene too large for memory."""
+    check_memory(scene, scene.wire.bars if options.bars is None else int(options.bars), options.layout)
+    start = time.perf_counter()
+    with _blas_limit():
+        first = solve_once(scene, options, start)
+        if options.branches == "first" or options.given_start:
+            return first
+        candidate = replace(options, initial_nodes=None, multipliers0=None, reuse=None,
+                            max_iter=candidate_iterations(first, options.max_iter))
+
+        def solve_from(x0: Any) -> Solution:
+            return solve_once(scene, replace(candidate, initial_angles=x0), time.perf_counter())
+
+        return lowest_branch(first, solve_from, start)
+
+
+def solve_once(scene: Scene, options: SolveOptions, start: float) -> Solution:
+    """One start: formulate, minimize through the working-set rounds, and when the exact Hessian stalls
+    (:data:`FALLBACK_STATUSES`) solve the reduced program again from the same start with damped BFGS (at most
+    ``min(max_iter, max(FALLBACK_MIN_ITER, max_iter // 5))`` iterations). ``start`` is when the clock started."""
+    n_bars = scene.wire.bars if options.bars is None else options.bars
+    layout = options.layout
+    if layout == "auto":
+        layout = choose_layout(n_bars, options.hessian, scene) if isinstance(n_bars, int) else "reduced"
+    form = formulate(scene, layout=layout, scheme=options.scheme, bars=options.bars,
+                     initial_angles=options.initial_angles, initial_nodes=options.initial_nodes,
+                     wall_nodes="near" if layout == "reduced" else None, reuse=options.reuse)
+    minimize_options = options.minimize_options()
+    runs: list[Any] = []
+    first, res = rounds(form, options.hessian, start_multipliers(form, options.multipliers0), minimize_options, runs)
+    answer, fallback, message = first, None, None
+    if options.hessian == "exact" and res.status in FALLBACK_STATUSES:
+        # Newton–SQP can stall where the exact Lagrangian Hessian is indefinite on the constraints' null space at
+        # poor multiplier estimates (a nearly taut stretch between two points); the paper's damped BFGS, started
+        # from the exact energy Hessian, does not depend on them: solve again from the same start
+        stalled = f"{sqp.Status.from_code(res.status).name} after {res.nit} exact-Hessian iterations"
+        max_iter = options.max_iter
+        budget = {**minimize_options, "max_iter": min(max_iter, max(FALLBACK_MIN_ITER, max_iter // 5))}
+        retry = formulate(form.scene, layout="reduced", initial_angles=form.model.x0, wall_nodes="near", check=False)
+        form_q, res_q = rounds(retry, "bfgs", None, budget, runs)
+        if res_q.success:
+            answer, res, fallback = form_q, res_q, FALLBACK
+            message = f"{res_q.message} ({FALLBACK}; the exact-Hessian run ended {stalled})"
+        else:
+            message = (f"{res.message} (a {FALLBACK} retry failed too: "
+                       f"{sqp.Status.from_code(res_q.status).name} after {res_q.nit} iterations)")
+    return build_solution(answer, res, time.perf_counter() - start, iterations=sum(int(r.nit) for r in runs),
+                          rounds=len(runs), fallback=fallback, message=message, tol=options.tol)
+
+
+def start_multipliers(form: Formulation, multipliers0: Any) -> list[Any] | None:
+    """``multipliers0`` of :func:`guidewire.solve` as ``sqp.minimize`` takes them for ``form``, or None."""
+    if multipliers0 is None:
+        return None
+    if isinstance(multipliers0, Solution | BlockMultipliers):
+        return form.multipliers0(multipliers0.blocks, multipliers0.multipliers)
+    if isinstance(multipliers0, Sequence) and len(multipliers0) == len(form.blocks):
+        return form.multipliers0(form.blocks, multipliers0)
+    raise ValueError(f"multipliers0 must be a Solution or {len(form.blocks)} arrays, one per constraint block "
+                     f"({', '.join(b.kind for b in form.blocks) or 'none'}).")
+
+
+def rounds(form: Formulation, hessian: str, multipliers0: Any, options: dict[str, Any],
+           runs: list[Any]) -> tuple[Formulation, Any]:
+    """Solve ``form``; while a block's rows do not fit the answer (:meth:`Block.refine`: a wall's working set misses a
+    violated node, a lumen's tangent planes moved), refine them and solve again from the answer and its multipliers
+    (matched by row), up to :data:`MAX_ROUNDS` times. ``options`` are :func:`sqp.minimize`'s; every ``sqp`` result
+    is appended to ``runs``."""
+    for _ in range(MAX_ROUNDS):
+        args = form.arguments()
+        if hessian == "exact":
+            args["hess"] = form.hess
+        if multipliers0 is not None:
+            args["multipliers0"] = multipliers0
+        res = sqp.minimize(**args, **options)
+        runs.append(res)
+        phi = form.angles(res.x)
+        tolerance = options["tol"] * max(1.0, form.scene.wire.length)
+        refined = [block.refine(form.model, phi, tolerance) for block in form.blocks]
+        if all(r is None for r in refined):
+            break
+        blocks = [b if r is None else r for b, r in zip(form.blocks, refined, strict=True)]
+        previous = form
+        form = assemble(replace(form.model, x0=phi), form.layout.name, blocks)
+        multipliers0 = form.multipliers0(previous.blocks, previous.multipliers(res))
+    return form, res
+
+
+@functools.cache
+def _blas() -> Any:
+    """One ``threadpoolctl`` controller of the BLAS libraries (inspecting the loaded libraries costs ~1 ms)."""
+    return ThreadpoolController().select(user_api="blas")
+
+
+def _blas_limit() -> Any:
+    """A context that runs BLAS on :data:`BLAS_THREADS` threads and restores the caller's setting after; a no-op
+    when every BLAS library runs that few already (asking costs ~1 µs a library, where limiting and restoring cost
+    ~40 µs a solve)."""
+    blas = _blas()
+    if all(lib.num_threads <= BLAS_THREADS for lib in blas.lib_controllers):
+        return contextlib.nullcontext()
+    return blas.limit(limits=BLAS_THREADS, user_api="blas")

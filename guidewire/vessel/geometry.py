@@ -1,0 +1,318 @@
+"""The two kinds of lumen geometry behind :class:`guidewire.vessel.Vessel` — a tree of tubes, or the space between
+two walls — and the answers a vessel keeps (:class:`Memo`). Built on :mod:`guidewire.vessel.curves`.
+
+Units mm and rad; private to :mod:`guidewire.vessel`.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.spatial import cKDTree
+
+from ..fields import fmt_point as _fmt_point
+from .curves import (
+    BEND_LIMIT,
+    SAMPLE_SPACING,
+    TAIL_REACH,
+    TAIL_REACH_RADII,
+    Clearance,
+    Curve,
+    Tubes,
+    menger,
+    sample_spacing,
+    segments_cross,
+    self_crossing,
+)
+
+FloatArray = NDArray[np.float64]
+Polyline = tuple[tuple[float, ...], ...]
+
+
+# ----------------------------------------------------------------------------------------------------------------
+MEMO_SIZE = 4
+"""Answers of :meth:`Vessel.clearance` a vessel keeps (see :class:`Memo`)."""
+
+
+class Memo:
+    """The last :data:`MEMO_SIZE` answers (least recently used dropped first) of :meth:`Vessel.clearance`, keyed by
+    the points' exact bytes (and shape). It belongs to one vessel's geometry, which never changes, so an answer can
+    never be stale; the answer's arrays are made read-only, since every caller shares them. Thread-safe.
+
+    Every point's answer depends on that point alone (the closest-point search is elementwise), so points that begin
+    with a kept query's points — an insertion step starts from the previous answer with bars added at the tip — reuse
+    its answer for those rows and compute only the rest."""
+
+    def __init__(self) -> None:
+        self._answers: dict[tuple[tuple[int, ...], bytes], tuple[FloatArray, Clearance]] = {}
+        self._lock = threading.Lock()
+
+    def get(self, points: FloatArray, compute: Any) -> Clearance:
+        key = (points.shape, points.tobytes())
+        with self._lock:
+            hit = self._answers.pop(key, None)
+            if hit is not None:
+                self._answers[key] = hit  # now the most recently used
+                return hit[1]
+            prefix = max(((p, c) for p, c in self._answers.values()
+                          if 0 < len(p) < len(points) and np.array_equal(p, points[:len(p)])),
+                         key=lambda pc: len(pc[0]), default=None)
+        if prefix is None:
+            out = compute(points)
+        else:
+            known, rest = prefix[1], compute(points[len(prefix[0]):])
+            out = Clearance(**{name: np.concatenate((getattr(known, name), getattr(rest, name)))
+                               for name in ("distance", "normal", "boundary", "curvature")})
+        for value in (out.distance, out.normal, out.boundary, out.curvature):
+            value.flags.writeable = False
+        kept = points.copy()
+        kept.flags.writeable = False
+        with self._lock:
+            while len(self._answers) >= MEMO_SIZE:
+                del self._answers[next(iter(self._answers))]
+            self._answers[key] = (kept, out)
+        return out
+
+
+class TubeGeometry:
+    """The built geometry of a centreline vessel: the main tube and branches as one :class:`Tubes`."""
+
+    def __init__(self, centreline: Polyline, radius: float | tuple[float, ...], branches: tuple[Any, ...]):
+        # (branches: guidewire.vessel.Branch values)
+        lines = [(np.asarray(centreline, dtype=float), np.broadcast_to(radius, (len(centreline),)).astype(float),
+                  "vessel")]
+        lines += [(np.asarray(b.centreline, dtype=float), np.broadcast_to(b.radius, (len(b.centreline),)).astype(float),
+                   f"vessel.branch[{i}]") for i, b in enumerate(branches)]
+        curves = []
+        for points, rad, name in lines:
+            curve = Curve(points, rad, spacing=sample_spacing(points, rad))
+            check_bend(curve, points, name)
+            curves.append(curve)
+        self.main = curves[0]
+        self.centre_curves = curves
+        self.answers = Memo()
+        self.entrance = curve_entrance(self.main)
+        # the entrance is capped (the first disk); branch junctions too (they lie inside the parent); far ends open
+        reach = [max(TAIL_REACH, TAIL_REACH_RADII * float(c.radius[-1])) for c in curves]
+        self.tubes = Tubes(curves, head_open=[False] * len(curves), tail_open=[True] * len(curves), reach=reach)
+        self.varying = np.array([np.ptp(rad) > 0.0 for _, rad, _ in lines])
+        if len(curves) > 1:
+            main_only = Tubes(curves[:1], head_open=[False], tail_open=[True])
+            start = np.array([c.samples[0] for c in curves[1:]])
+            best = main_only.closest(start)
+            inside = best["radius"] - best["r"]
+            for i, d in enumerate(inside):
+                if d <= 0.0:
+                    raise ValueError(
+                        f"vessel.branch[{i}].centreline starts at {_fmt_point(start[i])}, {-d:.3g} mm outside the "
+                        "main lumen; start each branch inside its parent (e.g. on the parent's centreline)."
+                    )
+
+    def best(self, p: FloatArray) -> tuple[dict[str, FloatArray], NDArray[np.intp]]:
+        """The closest-point answers of :meth:`Tubes.closest_pairs` and, per point, the index into them of the tube
+        with the largest signed distance (the first such tube on a tie, as ``argmax`` over all tubes).
+
+        The main tube is searched for every point; another tube only where :meth:`Tubes.upper_bound` says it could
+        beat the main one (a point in the aorta far from a branch never searches the branch): the same answer as
+        searching every tube, at a fraction of the cost."""
+        tubes = self.tubes
+        m, t = len(p), len(tubes.curves)
+        main = tubes.closest_pairs(p, np.zeros(m, dtype=np.intp))
+        if t == 1:
+            return main, np.arange(m)
+        depth = main["radius"] - main["r"]
+        bound = tubes.upper_bound(p)[:, 1:]
+        ii, kk = np.nonzero(bound.T >= depth[None, :] - 1e-9 * np.maximum(1.0, tubes.rmax[1:, None]))
+        if ii.size == 0:
+            return main, np.arange(m)
+        # ii: tube − 1 (k-major, as closest()); kk: point
+        other = tubes.closest_pairs(p[kk], ii + 1)
+        both = {name: np.concatenate((main[name], other[name])) for name in main}
+        value = np.full((t, m), -np.inf)
+        value[0] = depth
+        value[ii + 1, kk] = other["radius"] - other["r"]
+        where = np.zeros((t, m), dtype=np.intp)
+        where[0] = np.arange(m)
+        where[ii + 1, kk] = m + np.arange(ii.size)
+        return both, where[np.argmax(value, axis=0), np.arange(m)]
+
+    def past_end(self, p: FloatArray) -> NDArray[np.bool_]:
+        tubes = self.tubes
+        # only a point beyond some tube's far end plane can be in its straight continuation, and a point inside the
+        # lumen (lower_bound ≥ 0, where the closest-point search is exact) only where that continuation's signed
+        # distance can reach the largest one; a point outside is searched whenever it is beyond a plane
+        out = np.zeros(len(p), dtype=bool)
+        lam = np.einsum("mkj,kj->mk", p[:, None, :] - tubes.tail_point[None], tubes.tail_tangent)
+        beyond = lam > 0.0
+        if not beyond.any():
+            return out
+        foot = tubes.tail_point + np.minimum(lam, tubes.reach)[:, :, None] * tubes.tail_tangent
+        reach = tubes.tail_radius - np.hypot(*(p[:, None, :] - foot).transpose(2, 0, 1))
+        lower = tubes.lower_bound(p)
+        floor = np.where(lower >= 0.0, lower - 1e-9 * max(1.0, float(tubes.rmax.max())), -np.inf)
+        candidates = np.flatnonzero((beyond & (reach >= floor[:, None])).any(axis=1))
+        if candidates.size:
+            best, flat = self.best(p[candidates])
+            out[candidates] = np.isin(best["source"][flat], (2, 3))
+        return out
+
+    def clearance(self, p: FloatArray) -> Clearance:
+        tubes = self.tubes
+        best, flat = self.best(p)
+        u, k, source = best["u"][flat], best["k"][flat], best["source"][flat]
+        v, r, radius, centre = best["v"][flat], best["r"][flat], best["radius"][flat], best["centre"][flat]
+        tangent, kappa = best["t"][flat], best["kappa"][flat]
+        left = np.column_stack((-tangent[:, 1], tangent[:, 0]))
+        on_axis = r <= 1e-12 * np.maximum(radius, 1.0)
+        e = np.where(on_axis[:, None], left, v / np.where(on_axis, 1.0, r)[:, None])
+        boundary = centre + radius[:, None] * e
+        side = np.where(e[:, 0] * left[:, 0] + e[:, 1] * left[:, 1] >= 0.0, 1.0, -1.0)
+        # boundary curvature: the offset curve's κ/(1 − side·R·κ) where the radius is constant (exact); where it
+        # varies, the circle through three points of the disks' envelope around u*
+        curvature = side * kappa / (1.0 - side * radius * kappa)
+        varying = self.varying[k] & (source == 0)
+        if varying.any():
+            i = np.flatnonzero(varying)
+            kv, h = k[i], tubes.h[k[i]]
+            mid = np.clip(u[i], tubes.lo[kv] + h, tubes.hi[kv] - h)
+            n = len(i)
+            b = tubes.envelope(np.concatenate((mid - h, mid, mid + h)), np.tile(kv, 3), np.tile(side[i], 3))
+            curvature[i] = side[i] * menger(b[:n], b[n:2 * n], b[2 * n:])
+        cap = (source == 0) & (u <= tubes.lo[k]) & (e[:, 0] * tangent[:, 0] + e[:, 1] * tangent[:, 1] < 0.0)
+        cap |= source == 3
+        curvature = np.where(cap, -1.0 / radius, curvature)
+        return Clearance(distance=radius - r, normal=e, boundary=boundary, curvature=curvature)
+
+    def path(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
+        return curve_path(self.main, s)
+
+    def wall_lines(self) -> list[FloatArray]:
+        out = []
+        for k, c in enumerate(self.tubes.curves):
+            kk = np.full(len(c.u), k)
+            u = c.u + self.tubes.offsets[k]
+            out += [self.tubes.envelope(u, kk, np.full(len(u), side)) for side in (1.0, -1.0)]
+        return out
+
+
+def curve_path(curve: Curve, s: FloatArray) -> tuple[FloatArray, FloatArray]:
+    value, d1, _ = curve.evaluate(curve.u_of_s(s))
+    points, angle = value[:, :2].copy(), np.arctan2(d1[:, 1], d1[:, 0])
+    before, after = s < 0.0, s > curve.length
+    for mask, extra in ((before, s), (after, s - curve.length)):
+        if mask.any():
+            points[mask] += extra[mask, None] * np.column_stack((np.cos(angle[mask]), np.sin(angle[mask])))
+    return points, angle
+
+
+def curve_entrance(curve: Curve) -> tuple[tuple[float, float], float]:
+    """The entrance point (mm) and tangent angle (rad) of a main centreline (built once: a vessel never changes)."""
+    p, a = curve_path(curve, np.zeros(1))
+    return (float(p[0, 0]), float(p[0, 1])), float(a[0])
+
+
+def check_bend(curve: Curve, points: FloatArray, name: str) -> None:
+    """Refuse a tube that overlaps itself: a bend tighter than the radius, or two stretches closer than their radii."""
+    bend = np.abs(curve.kappa) * curve.radius
+    worst = int(np.argmax(bend))
+    if bend[worst] >= BEND_LIMIT:
+        i = _nearest_point(curve, worst)
+        raise ValueError(
+            f"{name}.centreline bends tighter than the lumen radius near point {i} {_fmt_point(points[i])}: bend "
+            f"radius {1.0 / abs(curve.kappa[worst]):.3g} mm < radius {curve.radius[worst]:.3g} mm, so the tube "
+            "overlaps itself; smooth the bend (more, farther-spread points) or reduce the radius there."
+        )
+    tree = cKDTree(curve.samples)
+    pairs = tree.query_pairs(2.0 * float(curve.radius.max()), output_type="ndarray")
+    if len(pairs):
+        i, j = pairs[:, 0], pairs[:, 1]
+        far = np.abs(curve.s[i] - curve.s[j]) > math.pi * np.maximum(curve.radius[i], curve.radius[j])
+        close = np.hypot(*(curve.samples[i] - curve.samples[j]).T) < curve.radius[i] + curve.radius[j]
+        bad = np.flatnonzero(far & close)
+        if bad.size:
+            a, b = sorted((int(i[bad[0]]), int(j[bad[0]])))
+            pa, pb = _nearest_point(curve, a), _nearest_point(curve, b)
+            raise ValueError(
+                f"{name}.centreline comes back within the lumen radius of itself: near point {pa} "
+                f"{_fmt_point(points[pa])} and point {pb} {_fmt_point(points[pb])} the tube overlaps itself; move "
+                "those stretches apart or reduce the radius."
+            )
+
+
+def _nearest_point(curve: Curve, sample: int) -> int:
+    """The centreline point nearest to a curve sample *along the curve* (by the spline's parameter): where the tube
+    comes back onto itself the two samples lie at one place, and the nearest point in space would name one point
+    twice."""
+    return int(np.argmin(np.abs(curve.breaks - curve.u[sample])))
+
+
+class WallGeometry:
+    """The built geometry of a two-wall vessel: each wall a spline continued straight past both ends."""
+
+    def __init__(self, walls: tuple[Polyline, Polyline]):
+        arrays = [np.asarray(w, dtype=float) for w in walls]
+        for i, a in enumerate(arrays):
+            hit = self_crossing(a)
+            if hit is not None:
+                raise ValueError(
+                    f"vessel.walls[{i}] crosses itself: its segments {hit[0]} and {hit[1]} (points "
+                    f"{hit[0]}–{hit[0] + 1} and {hit[1]}–{hit[1] + 1}) intersect; give a simple polyline."
+                )
+        a, b = arrays
+        cross = segments_cross(a[:-1, None], a[1:, None], b[None, :-1], b[None, 1:])
+        if cross.any():
+            i, j = np.argwhere(cross)[0]
+            raise ValueError(f"vessel.walls[0] segment {i} crosses vessel.walls[1] segment {j}; the two walls must not "
+                             "meet (the lumen lies between them).")
+        width = float(np.hypot(*(a[0] - b[0])))
+        curves = [Curve(w, np.zeros(len(w)), spacing=min(sample_spacing(w, np.zeros(0)), 0.25 * width)) for w in arrays]
+        self.tubes = Tubes(curves, head_open=[True, True], tail_open=[True, True])
+        # which side of each wall the lumen is on (+1 left): the side of the other wall's first point
+        self.side = np.empty(2)
+        for i, (own, other) in enumerate(((a, b), (b, a))):
+            t = self.tubes.head_tangent[i]
+            d = other[0] - own[0]
+            self.side[i] = 1.0 if t[0] * d[1] - t[1] * d[0] > 0.0 else -1.0
+        if not np.all(np.isfinite(self.side)):  # pragma: no cover - the first points differ (walls do not meet)
+            raise ValueError("vessel.walls start at the same point; the entrance needs two distinct wall points.")
+        # the midline: points at equal fractions of both walls' arc lengths, averaged; radius half their distance
+        frac = np.linspace(0.0, 1.0, 201)
+        pa, _ = curve_path(curves[0], frac * curves[0].length)
+        pb, _ = curve_path(curves[1], frac * curves[1].length)
+        mid = 0.5 * (pa + pb)
+        keep = np.concatenate(([True], np.hypot(*np.diff(mid, axis=0).T) > 1e-9))
+        half = 0.5 * np.hypot(*(pa - pb).T)
+        self.main = Curve(mid[keep], half[keep], spacing=SAMPLE_SPACING)
+        self.centre_curves = [self.main]
+        self.answers = Memo()
+        self.entrance = curve_entrance(self.main)
+
+    def clearance(self, p: FloatArray) -> Clearance:
+        tubes = self.tubes
+        m = len(p)
+        best = tubes.closest(p)
+        k, v, r, kappa = best["k"], best["v"], best["r"], best["kappa"]
+        left = np.column_stack((-best["t"][:, 1], best["t"][:, 0]))
+        side = self.side[k]
+        inward = side[:, None] * left  # unit normal pointing into the lumen
+        sign = np.where(np.einsum("ij,ij->i", v, inward) >= 0.0, 1.0, -1.0)
+        distance = (sign * r).reshape(2, m)
+        pick = np.argmin(distance, axis=0)
+        flat = pick * m + np.arange(m)
+        return Clearance(distance=distance[pick, np.arange(m)], normal=-inward[flat], boundary=best["centre"][flat],
+                         curvature=-side[flat] * kappa[flat])
+
+    def past_end(self, p: FloatArray) -> NDArray[np.bool_]:
+        return np.zeros(len(p), dtype=bool)
+
+    def path(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
+        return curve_path(self.main, s)
+
+    def wall_lines(self) -> list[FloatArray]:
+        return [c.samples.copy() for c in self.tubes.curves]
+
+

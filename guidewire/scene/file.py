@@ -91,7 +91,7 @@ def _unknown_key(key: str, where: str, allowed: set[str]) -> str:
     return f"[{where}] has unknown key {key!r}; {hint}allowed keys: {', '.join(sorted(allowed))}."
 
 
-def _table(data: Any, where: str, allowed: set[str], required: tuple[str, ...]) -> Mapping[str, Any]:
+def checked_table(data: Any, where: str, allowed: set[str], required: tuple[str, ...]) -> Mapping[str, Any]:
     """Check one TOML table: a mapping with only ``allowed`` keys and all ``required`` ones."""
     if not isinstance(data, Mapping):
         raise ValueError(f"[{where}] is {type(data).__name__}; expected a table.")
@@ -112,19 +112,13 @@ def _table(data: Any, where: str, allowed: set[str], required: tuple[str, ...]) 
 
 def scene_from_dict(data: Mapping[str, Any], *, name: str = "") -> Scene:
     """Build a :class:`Scene` from the parsed TOML mapping (see the module docstring for the keys)."""
-    top = _table(data, "scene file", _TOP_KEYS, ("wire",) if "vessel" in data else ("wire", "base"))
-    wire_table = dict(_table(top["wire"], "wire", _WIRE_KEYS, ("length", "bars")))
-    section_list = wire_table.pop("section", [])
-    if not isinstance(section_list, list):
-        raise ValueError("wire.section must be an array of tables: write [[wire.section]] (double brackets).")
-    sections = tuple(_item(Section, c, f"wire.section {i + 1}", _SECTION_KEYS, ("length",))
-                     for i, c in enumerate(section_list))
-    wire = Wire(**wire_table, sections=sections)
+    top = checked_table(data, "scene file", _TOP_KEYS, ("wire",) if "vessel" in data else ("wire", "base"))
+    wire = wire_from_dict(top["wire"])
     vessel = _vessel(top["vessel"]) if "vessel" in top else None
     if "base" in top:
-        base = Base(**_table(top["base"], "base", _BASE_KEYS, ("point",)))
+        base = Base(**checked_table(top["base"], "base", _BASE_KEYS, ("point",)))
     else:
-        assert vessel is not None  # _table required [base] otherwise
+        assert vessel is not None  # checked_table required [base] otherwise
         base = Scene.in_vessel(wire, vessel).base
     contact_list = top.get("contact", [])
     wall_list = top.get("wall", [])
@@ -140,9 +134,23 @@ def scene_from_dict(data: Mapping[str, Any], *, name: str = "") -> Scene:
     )
 
 
+def wire_from_dict(data: Any, extra_keys: frozenset[str] = frozenset()) -> Wire:
+    """The ``[wire]`` table (with its ``[[wire.section]]`` list) as a :class:`Wire`; keys in ``extra_keys`` are
+    allowed and left out (the 3-D scene's twist material)."""
+    wire_table = dict(checked_table(data, "wire", _WIRE_KEYS | extra_keys, ("length", "bars")))
+    for key in extra_keys:
+        wire_table.pop(key, None)
+    section_list = wire_table.pop("section", [])
+    if not isinstance(section_list, list):
+        raise ValueError("wire.section must be an array of tables: write [[wire.section]] (double brackets).")
+    sections = tuple(_item(Section, c, f"wire.section {i + 1}", _SECTION_KEYS, ("length",))
+                     for i, c in enumerate(section_list))
+    return Wire(**wire_table, sections=sections)
+
+
 def _vessel(data: Any) -> Vessel:
     """The ``[vessel]`` table: ``centreline`` with ``radius`` (and ``[[vessel.branch]]``), or ``walls``."""
-    table = _table(data, "vessel", _VESSEL_KEYS, ())
+    table = checked_table(data, "vessel", _VESSEL_KEYS, ())
     if "walls" in table:
         extra = sorted(set(table) - {"walls"})
         if extra:
@@ -152,13 +160,13 @@ def _vessel(data: Any) -> Vessel:
         if not isinstance(walls, list) or len(walls) != 2:
             raise ValueError("[vessel] walls must be two polylines: walls = [[[x, y], ...], [[x, y], ...]] (mm).")
         return Vessel.from_walls(walls[0], walls[1])
-    _table(table, "vessel", _VESSEL_KEYS, ("centreline", "radius"))
+    checked_table(table, "vessel", _VESSEL_KEYS, ("centreline", "radius"))
     branch_list = table.get("branch", [])
     if not isinstance(branch_list, list):
         raise ValueError("vessel.branch must be an array of tables: write [[vessel.branch]] (double brackets).")
     branches = []
     for i, item in enumerate(branch_list):
-        entry = _table(item, f"vessel.branch {i + 1}", _BRANCH_KEYS, ("centreline", "radius"))
+        entry = checked_table(item, f"vessel.branch {i + 1}", _BRANCH_KEYS, ("centreline", "radius"))
         try:
             branches.append(Branch(entry["centreline"], entry["radius"]))
         except (TypeError, ValueError) as exc:
@@ -168,11 +176,22 @@ def _vessel(data: Any) -> Vessel:
 
 def _item(cls: Any, data: Any, where: str, allowed: set[str], required: tuple[str, ...]) -> Any:
     """One ``[[contact]]``/``[[wall]]`` entry; a bad value's message says which entry (``contact 2``)."""
-    table = _table(data, where, allowed, required)
+    table = checked_table(data, where, allowed, required)
     try:
         return cls(**table)
     except (TypeError, ValueError) as exc:
         raise type(exc)(f"[[{where.split()[0]}]] number {where.split()[1]}: {exc}") from None
+
+
+def read_toml(path: Path) -> dict[str, Any]:
+    """The parsed TOML file; a ValueError naming the file when it is not TOML (FileNotFoundError when missing)."""
+    try:
+        with path.open("rb") as handle:
+            return tomllib.load(handle)
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"{path} is not valid TOML: {exc}") from None
+    except UnicodeDecodeError:
+        raise ValueError(f"{path} is not valid TOML: it is not UTF-8 text.") from None
 
 
 def load_scene(path: str | Path) -> Scene:
@@ -196,13 +215,7 @@ def load_scene(path: str | Path) -> Scene:
         When the file is not valid TOML or a value is out of range (the message names the field).
     """
     path = Path(path)
-    try:
-        with path.open("rb") as handle:
-            data = tomllib.load(handle)
-    except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"{path} is not valid TOML: {exc}") from None
-    except UnicodeDecodeError:
-        raise ValueError(f"{path} is not valid TOML: it is not UTF-8 text.") from None
+    data = read_toml(path)
     try:
         return scene_from_dict(data, name=path.stem)
     except TypeError as exc:

@@ -11,6 +11,9 @@ import numpy as np
 
 from .vessel import Vessel3D
 
+SHAPES = ("helix", "tortuous")
+"""The shapes a scene file may name (``[vessel] shape = "helix"``)."""
+
 
 def helix(coil_radius: float = 10.0, pitch: float = 25.0, turns: float = 2.0, radius: float = 2.0,
           lead_in: float = 20.0, spacing: float = 2.0) -> Vessel3D:

@@ -23,8 +23,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..scene.file import load_scene
-from .parser import MAX_JSON_MB, MAX_STEPS, BadInput, build_parser, qp_solver_choice
+from ..solve3d.file import load_scene
+from ..solve3d.scene import Scene3D
+from .cli3d import insert_3d, solve_3d
+from .parser import BadInput, build_parser, check_output_dir, check_size, qp_solver_choice
 
 if TYPE_CHECKING:
     from ..scene.scene import Scene
@@ -66,44 +68,24 @@ def _load(path: Path) -> Scene:
         raise BadInput(str(exc)) from None
 
 
-#: Bytes of one node in an insertion's JSON (two coordinates printed at full precision, indent 1).
-JSON_BYTES_PER_NODE = 60
-
-
-def _check_output_dir(path: Path | None, flag: str) -> None:
-    """An output whose directory does not exist is a mistake (a typo, or a path meant elsewhere): said before any
-    work rather than creating directories the user did not ask for."""
-    if path is not None and not path.parent.is_dir():
-        raise BadInput(f"{flag} {path}: the directory {path.parent} does not exist; create it or give another path")
-
-
-def _check_size(args: argparse.Namespace, lengths: np.ndarray, bars_per_mm: float) -> None:
-    """Refuse, unless ``--yes``, an insertion of more than :data:`MAX_STEPS` steps or whose JSON would exceed
-    :data:`MAX_JSON_MB` megabytes (estimated from the nodes of every step)."""
-    if args.yes:
-        return
-    if lengths.size > MAX_STEPS:
-        raise BadInput(f"--step {args.step:g} mm makes {lengths.size} steps (more than {MAX_STEPS}); give a larger "
-                       "--step (it is in mm), or --yes to run them all")
-    if args.json is not None:
-        megabytes = JSON_BYTES_PER_NODE * float(np.sum(lengths * bars_per_mm + 1.0)) / 1e6
-        if megabytes > MAX_JSON_MB:
-            raise BadInput(f"--json would hold about {megabytes:.0f} MB ({lengths.size} steps of up to "
-                           f"{lengths[-1] * bars_per_mm:.0f} bars); give a larger --step, fewer bars per mm, or "
-                           "--yes to write it")
-
-
 def _insert(args: argparse.Namespace) -> int:
     from ..march.insertion import insert
 
     scene = _load(args.scene)
+    if isinstance(scene, Scene3D):
+        return insert_3d(args, scene)
+    if args.rotate is not None or args.schedule is not None or args.html is not None:
+        raise BadInput(f"{args.scene} is a planar scene: --rotate, --schedule and --html need a 3-D scene (a vessel "
+                       "centreline with three columns, a shipped 3-D shape or a .vtp file)")
+    if args.to is None or args.step is None:
+        raise BadInput("give --to and --step (mm)")
     first = scene.wire.length if args.start is None else args.start
     if args.to < first:
         raise BadInput(f"--to {args.to:g} is shorter than the first inserted length {first:g} mm")
     lengths = np.arange(first, args.to + 0.5 * args.step, args.step)
     for flag in ("json", "plot", "gif"):
-        _check_output_dir(getattr(args, flag), f"--{flag}")
-    _check_size(args, lengths, scene.wire.bars / scene.wire.length)
+        check_output_dir(getattr(args, flag), f"--{flag}")
+    check_size(args, lengths, scene.wire.bars / scene.wire.length)
     start_scene = scene.with_wire(length=first, bars=max(1, round(first * scene.wire.bars / scene.wire.length)))
     flagged = [0]
     report = _step_printer(args.quiet, flagged)
@@ -158,8 +140,12 @@ def _solve(args: argparse.Namespace) -> int:
     from ..solve import solve
 
     scene = _load(args.scene)
+    if isinstance(scene, Scene3D):
+        return solve_3d(args, scene)
+    if args.html is not None:
+        raise BadInput(f"--html draws 3-D scenes; {args.scene} is planar (use --plot)")
     for flag in ("json", "plot"):
-        _check_output_dir(getattr(args, flag), f"--{flag}")
+        check_output_dir(getattr(args, flag), f"--{flag}")
     try:
         sol = solve(scene, scheme=args.scheme, bars=args.bars, qp_solver=qp_solver_choice(args), tol=args.tol,
                     max_iter=args.max_iter, verbose=args.verbose, tol_mm=args.tol_mm,

@@ -116,12 +116,21 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--max-iter", type=_positive_int, default=MAX_ITER, help="SQP iteration limit")
     run.add_argument("--tol", type=float, default=TOL, help="SQP tolerance")
     run.add_argument("--reference", action="store_true", help="overlay the continuum reference in --plot")
+    run.add_argument("--html", type=Path, help="3-D scenes: write an interactive view (needs plotly, the [html] "
+                     "extra)")
     run.add_argument("--verbose", action="store_true", help="print the SQP iteration table")
     ins = sub.add_parser("insert", help="advance the wire of a scene quasi-statically (a vessel, walls, contacts)")
     ins.add_argument("scene", type=Path, help="scene file (TOML); its wire.length is the first inserted length "
                      "unless --from says otherwise, its bars per mm are kept")
-    ins.add_argument("--to", type=_positive_float, required=True, help="last inserted length (mm)")
-    ins.add_argument("--step", type=_positive_float, required=True, help="insertion step (mm)")
+    ins.add_argument("--to", type=_positive_float, help="last inserted length (mm); with --step, or give --schedule")
+    ins.add_argument("--step", type=_positive_float, help="insertion step (mm)")
+    ins.add_argument("--rotate", type=float, metavar="DEG_PER_MM", help="3-D scenes: turn the clamp by this many "
+                     "degrees per mm inserted (negative: the other way)")
+    ins.add_argument("--schedule", type=Path, metavar="FILE", help="3-D scenes: a text file of steps, one per line: "
+                     "inserted length (mm) and clamp rotation (degrees), both absolute ('#' starts a comment); "
+                     "pushes, pulls and turns in any order (instead of --to/--step)")
+    ins.add_argument("--html", type=Path, help="3-D scenes: write an interactive view of the last step (needs "
+                     "plotly, the [html] extra)")
     ins.add_argument("--from", dest="start", type=_positive_float, help="first inserted length (mm)")
     ins.add_argument("--json", type=Path, help="write every step as JSON (units, steps: contacts, tip, forces)")
     ins.add_argument("--plot", type=_figure_path, help="write the last shape and force/energy against length")
@@ -152,3 +161,30 @@ def build_parser() -> argparse.ArgumentParser:
     batch.add_argument("--tol", type=float, default=TOL, help="SQP tolerance")
     batch.add_argument("--no-progress", action="store_true", help="no progress bar")
     return parser
+
+
+#: Bytes of one node in an insertion's JSON (two coordinates printed at full precision, indent 1).
+JSON_BYTES_PER_NODE = 60
+
+
+def check_output_dir(path: Path | None, flag: str) -> None:
+    """An output whose directory does not exist is a mistake (a typo, or a path meant elsewhere): said before any
+    work rather than creating directories the user did not ask for."""
+    if path is not None and not path.parent.is_dir():
+        raise BadInput(f"{flag} {path}: the directory {path.parent} does not exist; create it or give another path")
+
+
+def check_size(args: argparse.Namespace, lengths: np.ndarray, bars_per_mm: float) -> None:
+    """Refuse, unless ``--yes``, an insertion of more than :data:`MAX_STEPS` steps or whose JSON would exceed
+    :data:`MAX_JSON_MB` megabytes (estimated from the nodes of every step)."""
+    if args.yes:
+        return
+    if lengths.size > MAX_STEPS:
+        raise BadInput(f"--step {args.step:g} mm makes {lengths.size} steps (more than {MAX_STEPS}); give a larger "
+                       "--step (it is in mm), or --yes to run them all")
+    if args.json is not None:
+        megabytes = JSON_BYTES_PER_NODE * float(np.sum(lengths * bars_per_mm + 1.0)) / 1e6
+        if megabytes > MAX_JSON_MB:
+            raise BadInput(f"--json would hold about {megabytes:.0f} MB ({lengths.size} steps of up to "
+                           f"{lengths[-1] * bars_per_mm:.0f} bars); give a larger --step, fewer bars per mm, or "
+                           "--yes to write it")

@@ -1,0 +1,153 @@
+"""3-D vessels: the lumen row's exact derivatives, its zero set, insertion in a helix (nodes in the lumen, contact
+forces normal and non-negative, balance), the J-tip's whip under rotation, and bad input named."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from guidewire import Section, Wire
+from guidewire.solve3d import Scene3D
+from guidewire.solve3d.insert import insert3d
+from guidewire.vessel3d import Vessel3D
+from guidewire.vessel3d.shapes import helix, tortuous
+
+STEVE_J = (Section.arc(12.1, 0.4 * math.pi, youngs_modulus=17000.0, diameter=0.7),)
+
+
+def _points_in(vessel: Vessel3D, count: int, seed: int, radius: float) -> np.ndarray:
+    """Random points inside the main tube shrunk by ``radius``: near the axis and near the wall."""
+    rng = np.random.default_rng(seed)
+    tube = vessel.tubes[0]
+    u = rng.uniform(0.05 * tube.end, 0.95 * tube.end, count)
+    e = tube.evaluate(u)
+    t = e.d1 / np.linalg.norm(e.d1, axis=1, keepdims=True)
+    n = rng.normal(size=(count, 3))
+    n -= np.einsum("ij,ij->i", n, t)[:, None] * t
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    depth = rng.uniform(0.0, 0.95, count) * (e.radius - radius)
+    return e.centre + depth[:, None] * n
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("shape", ["helix", "tortuous"])
+def test_lumen_row_gradient_and_hessian_match_central_differences(shape, seed):
+    """``∇g`` and ``∇²g`` (envelope theorem over the closest ball) against central differences of ``g`` and ``∇g``
+    (step 1e-5 mm: truncation ~h² |g'''| ≈ 1e-10 with curvatures ≲ 1/a, rounding ~eps |g| / h ≈ 1e-11)."""
+    vessel = helix() if shape == "helix" else tortuous()  # (the tortuous one tapers: R' ≠ 0)
+    r = 0.2
+    p = _points_in(vessel, 12, seed, r)
+    radii = np.full(len(p), r)
+    g, grad, hess = (np.array(a) for a in vessel.lumen_rows(p, radii))
+    h = 1e-5
+    for i in range(3):
+        step = np.zeros(3)
+        step[i] = h
+        gp, dp, _ = (np.array(a) for a in vessel.lumen_rows(p + step, radii))
+        gm, dm, _ = (np.array(a) for a in vessel.lumen_rows(p - step, radii))
+        assert np.allclose((gp - gm) / (2 * h), grad[:, i], rtol=0, atol=1e-8)
+        assert np.allclose((dp - dm) / (2 * h), hess[:, :, i], rtol=0, atol=1e-5 * max(1.0, np.abs(hess).max()))
+    assert np.all(g > 0.0)  # (inside by construction)
+
+
+@pytest.mark.parametrize("angle", np.linspace(0.0, 2 * math.pi, 7)[:-1])
+def test_lumen_row_vanishes_on_the_shrunk_wall_with_unit_gradient(angle):
+    """On the wall shrunk by the wire radius, ``g = 0`` and ``|∇g| = 1``: the multiplier is the wall's force in N and
+    the row's value the clearance to first order (a helix: curvature 1/11.6 mm, lumen 2 mm, every direction)."""
+    vessel = helix()
+    tube = vessel.tubes[0]
+    u = np.linspace(0.2, 0.8, 5) * tube.end
+    e = tube.evaluate(u)
+    t = e.d1 / np.linalg.norm(e.d1, axis=1, keepdims=True)
+    a = np.cross(t, [0.0, 0.0, 1.0])
+    a /= np.linalg.norm(a, axis=1, keepdims=True)
+    b = np.cross(t, a)
+    r = 0.3
+    p = e.centre + (e.radius - r)[:, None] * (math.cos(angle) * a + math.sin(angle) * b)
+    g, grad, _ = vessel.lumen_rows(p, np.full(len(p), r))
+    assert np.max(np.abs(g)) < 1e-9
+    assert np.max(np.abs(np.linalg.norm(grad, axis=1) - 1.0)) < 1e-9
+
+
+@pytest.fixture(scope="module")
+def helix_insertion():
+    wire = Wire(length=10.0, bars=20, youngs_modulus=80000.0, diameter=0.89)
+    vessel = helix()
+    out = insert3d(Scene3D.in_vessel(wire, vessel), np.arange(10.0, 51.0, 2.0))
+    return vessel, wire, out
+
+
+def test_insertion_in_a_helix_keeps_every_node_in_the_lumen(helix_insertion):
+    vessel, wire, out = helix_insertion
+    assert out.complete, out.error
+    for sol in out.steps:
+        clearance, _ = vessel.clearance(sol.nodes[1:], wire.diameter / 2)
+        assert clearance.min() > -1e-6, (float(np.sum(sol.lengths)), clearance.min())
+
+
+def test_helix_contact_forces_are_normal_non_negative_and_balance(helix_insertion):
+    _, _, out = helix_insertion
+    touching = 0
+    for sol in out.steps:
+        for f in sol.forces:
+            if f.kind != "lumen":
+                continue
+            touching += 1
+            along = float(f.force @ f.normal)
+            assert along >= 0.0
+            assert np.linalg.norm(f.force - along * f.normal) <= 1e-9 * max(1.0, along)
+        force, moment = sol.balance()
+        scale = max(1.0, abs(sol.entrance_force))
+        assert force < 1e-7 * scale and moment < 1e-6 * scale * 50.0
+    assert touching > 10  # (the wire does lean on the helix's wall)
+    pushes = [sol.entrance_force for sol in out.steps[-5:]]
+    assert min(pushes) > 0.0  # pushing a wire through a coil takes a positive push
+
+
+@pytest.fixture(scope="module")
+def whip():
+    """A stEVE J inserted 40 mm into the helix, then the clamp turned two full turns in 15° steps."""
+    wire = Wire(length=10.0, bars=20, youngs_modulus=80000.0, diameter=0.89, sections=STEVE_J)
+    lengths = list(np.arange(10.0, 40.5, 2.0))
+    turns = np.radians(np.arange(15.0, 721.0, 15.0))
+    out = insert3d(Scene3D.in_vessel(wire, helix()), lengths + [40.0] * len(turns),
+                   [0.0] * len(lengths) + list(turns))
+    return out, len(lengths), turns
+
+
+def test_j_tip_roll_lags_the_clamp_then_snaps_releasing_energy(whip):
+    """The whip users see: turning the clamp in a curved tube, the tip's roll falls behind (the wire stores twist and
+    bending), then jumps ahead in one step, and the step of the jump lowers the energy."""
+    out, first, turns = whip
+    assert out.complete, out.error
+    rolls = np.array([s.tip_roll for s in out.steps[first - 1:]])
+    base = np.concatenate(([0.0], turns))
+    lag = rolls - base  # (the tip's roll behind the clamp's: the twist the wire stores)
+    assert lag.min() < -math.radians(30.0)
+    jumps = np.diff(rolls)
+    snap = int(np.argmax(jumps))
+    assert jumps[snap] > math.radians(60.0)  # one 15° step of the clamp, a much larger turn of the tip
+    energies = np.array([s.energy for s in out.steps[first - 1:]])
+    assert energies[snap + 1] < energies[snap]
+
+
+def test_j_tip_rotation_is_periodic(whip):
+    """Turning the clamp by a full turn gives the same shape again (the same branch, lag and snap included): the
+    second turn's energies and tip rolls repeat the first's, to the solve's tolerance and to 2π."""
+    out, first, _ = whip
+    per_turn = 24
+    steps = out.steps[first:]
+    energies = np.array([s.energy for s in steps])
+    rolls = np.array([s.tip_roll for s in steps])
+    assert np.allclose(energies[:per_turn], energies[per_turn:], rtol=1e-6, atol=1e-9)
+    assert np.allclose(rolls[per_turn:] - rolls[:per_turn], 2 * math.pi, atol=1e-5)
+
+
+def test_tight_bend_and_self_overlap_are_named():
+    with pytest.raises(ValueError, match="bends tighter than the lumen radius near point"):
+        Vessel3D.from_centreline([[0, 0, 0], [5, 0, 0], [6, 1, 0], [5, 2, 0], [0, 2, 0]], 1.5)
+    coil = [[10 * math.cos(t), 10 * math.sin(t), 0.3 * t] for t in np.linspace(0, 4 * math.pi, 60)]
+    with pytest.raises(ValueError, match="comes back within the lumen radius of itself"):
+        Vessel3D.from_centreline(coil, 1.0)

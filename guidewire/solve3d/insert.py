@@ -88,6 +88,36 @@ MAX_HALVINGS = 5
 """Splits of one step at most (down to 1/32 of it)."""
 
 
+def tracked_multipliers(previous: Solution3D, scene: Scene3D, n: int) -> list[FloatArray] | None:
+    """The multipliers of ``previous`` carried to ``scene`` with ``n`` bars, row block by row block, as the track
+    predictor carries the shape (bar ``k`` and node ``k`` keep their place: the first ``min(n_old, n)`` take the
+    old values, new ones start at zero): closure (3 per bar), pinned contacts (as they were), walls (one per wall
+    and node), lumen (one per node). None when ``previous`` has none (a failed solve) or another layout."""
+    old = previous.extras.get("multipliers")
+    if old is None:
+        return None
+    n_old, keep = previous.n_bars, min(previous.n_bars, n)
+
+    def carried(values: FloatArray, per: int, groups: int = 1) -> FloatArray:
+        a = np.asarray(values, dtype=float).reshape(groups, n_old, per)
+        out = np.zeros((groups, n, per))
+        out[:, :keep] = a[:, :keep]
+        return out.ravel()
+
+    blocks = [carried(old[0], 3)]
+    index = 1
+    if any(c.point is not None for c in scene.contacts):
+        blocks.append(np.asarray(old[index], dtype=float))
+        index += 1
+    if scene.walls:
+        blocks.append(carried(old[index], 1, len(scene.walls)))
+        index += 1
+    if scene.vessel is not None:
+        blocks.append(carried(old[index], 1))
+        index += 1
+    return blocks if index == len(old) else None
+
+
 def advance(scene: Scene3D, previous: Solution3D, length: float, turn: float, density: float,
             options: dict[str, Any], depth: int = 0) -> Solution3D:
     """The step from ``previous`` to ``(length, turn)``, split in halves (recursively, :data:`MAX_HALVINGS` times)
@@ -97,7 +127,9 @@ def advance(scene: Scene3D, previous: Solution3D, length: float, turn: float, de
     target = scene_at(scene, length, turn, density)
     limit = min(int(options.get("max_iter", STEP_MAX_ITER)), STEP_MAX_ITER) if depth < MAX_HALVINGS else None
     tries = dict(options, max_iter=limit) if limit is not None else options
-    sol = solve3d(target, initial_frames=tracked_frames(previous, target), **tries)
+    frames = tracked_frames(previous, target)
+    sol = solve3d(target, initial_frames=frames, initial_multipliers=tracked_multipliers(previous, target, len(frames)),
+                  **tries)
     if sol.success or limit is None:
         sol.extras["substeps"] = 1
         return sol

@@ -38,8 +38,9 @@ TOUCHING = 1e-6
 interior-point QP leaves tiny positive multipliers on the rows it does not hold)."""
 
 
-def solve3d(scene: Scene3D, *, initial_nodes: Any = None, initial_frames: Any = None, tol: float = 1e-8,
-            max_iter: int = 300, qp_solver: str | None = None, verbose: bool = False) -> Solution3D:
+def solve3d(scene: Scene3D, *, initial_nodes: Any = None, initial_frames: Any = None,
+            initial_multipliers: list[Any] | None = None, tol: float = 1e-8, max_iter: int = 300,
+            qp_solver: str | None = None, verbose: bool = False) -> Solution3D:
     """The minimum-energy shape of the wire in ``scene``.
 
     Parameters
@@ -49,6 +50,10 @@ def solve3d(scene: Scene3D, *, initial_nodes: Any = None, initial_frames: Any = 
         A starting polyline (the clamp first); its bar directions set the start frames.
     initial_frames : array_like, shape (n, 4), optional
         Starting frames as quaternions (a previous solve's ``quaternions``: the warm start).
+    initial_multipliers : list of arrays, optional
+        Starting multipliers, one array per row block of the program (closure, contacts, walls, lumen: a previous
+        solve's ``extras["multipliers"]`` carried to this layout, :func:`guidewire.solve3d.insert.tracked_multipliers`):
+        with them the first Newton step already sees the wire's internal forces.
     tol, max_iter, qp_solver, verbose
         Passed to :func:`sqp.minimize`.
 
@@ -77,7 +82,7 @@ def solve3d(scene: Scene3D, *, initial_nodes: Any = None, initial_frames: Any = 
         options["qp_solver"] = qp_solver
     z0 = program.start()
     iterations, rounds = 0, 0
-    multipliers = None
+    multipliers = initial_multipliers
     while True:
         rounds += 1
         kw = {"multipliers0": multipliers} if multipliers is not None else {}
@@ -112,6 +117,7 @@ def answer(program: Program, res: Any, iterations: int, rounds: int, seconds: fl
     success = bool(res.success)
     if success:
         lam = list(res.constraint_multipliers)
+        extras["multipliers"] = [np.asarray(v, dtype=float) for v in lam]
         clamp_f = np.asarray(lam[0], dtype=float)[:3].copy()
         e = program.energy
         clamp_m = clamp_moment(e.base, q[0], e.joint_bending[0], e.joint_twist[0], e.joint_rest[0])

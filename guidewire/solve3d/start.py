@@ -26,6 +26,27 @@ from .scene import Scene3D
 FloatArray = NDArray[np.float64]
 
 
+CENTRELINE_SAMPLE = 0.05
+"""Spacing (mm) of the centreline samples over which arc length is measured for the start."""
+
+
+def along_centreline(vessel: Any, s: FloatArray) -> FloatArray:
+    """Points (m, 3) of the vessel's main centreline at arc lengths ``s`` (mm) from the entrance, measured on the
+    spline itself (its parameter is the chord length of the given points, shorter than the arc on a bend: nodes
+    placed by it would drift off the centreline by the difference, millimetres over a tortuous vessel)."""
+    top = float(np.max(s, initial=0.0))
+    u = np.linspace(0.0, top, max(2, int(np.ceil(top / CENTRELINE_SAMPLE)) + 1))
+    points = vessel.path(u)[0]
+    arc = np.concatenate(([0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))))
+    while arc[-1] < top:  # (the arc is longer than the parameter: sample on until it covers s)
+        extra = np.linspace(u[-1], u[-1] + (top - arc[-1]) + 1.0, 64)[1:]
+        more = vessel.path(extra)[0]
+        arc = np.concatenate((arc, arc[-1] + np.cumsum(np.linalg.norm(np.diff(np.vstack((points[-1:], more)),
+                                                                                axis=0), axis=1))))
+        points, u = np.vstack((points, more)), np.concatenate((u, extra))
+    return np.column_stack([np.interp(s, arc, points[:, i]) for i in range(3)])
+
+
 def start_frames(scene: Scene3D, lengths: FloatArray, contact_nodes: NDArray[np.int_],
                  initial_nodes: Any = None) -> FloatArray:
     """Quaternions (n, 4) of the start (see the module docstring)."""
@@ -39,8 +60,7 @@ def start_frames(scene: Scene3D, lengths: FloatArray, contact_nodes: NDArray[np.
                              "first.")
         directions = np.diff(p, axis=0)
     elif scene.vessel is not None and not scene.contacts:
-        s = np.concatenate(([0.0], np.cumsum(lengths)))
-        directions = np.diff(scene.vessel.path(s)[0], axis=0)
+        directions = np.diff(along_centreline(scene.vessel, np.concatenate(([0.0], np.cumsum(lengths)))), axis=0)
     else:
         directions = np.tile(t0, (n, 1))
         pinned = [(k, c.point) for k, c in zip(contact_nodes, scene.contacts, strict=True) if c.point is not None]

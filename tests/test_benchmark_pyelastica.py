@@ -2,8 +2,8 @@
 
 Runs only where PyElastica is installed (the ``bench`` extra). The tolerances come from each code's discretisation:
 
-- ours is second order: its tip error is 0.0028 mm at n = 100 (``benchmarks/results/pyelastica.md``), so ≈ 16 ×
-  that = 0.045 mm at n = 25; we allow 0.1 mm;
+- ours is second order: its tip error is 0.0026 mm at n = 100 (``benchmarks/results/pyelastica.md``), so ≈ 16 ×
+  that = 0.041 mm at n = 25 (measured 0.041); we allow 0.1 mm;
 - PyElastica holds its first element rigidly along the clamp and has no bending spring over the last half element,
   so at n elements it converges to the elastica with rigid end pieces of dl/2 (a first-order offset of ~2.9 mm at
   n = 25); against that limit only its second-order error and the stopping rule (1e-4 mm) remain: the same 0.1 mm;

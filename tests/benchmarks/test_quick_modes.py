@@ -9,7 +9,9 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-SCRIPTS = sorted(p.name for p in (ROOT / "benchmarks").glob("*.py") if not p.name.startswith("_"))
+#: pyelastica.py needs the optional PyElastica and has its own test (tests/test_benchmark_pyelastica.py).
+SCRIPTS = sorted(p.name for p in (ROOT / "benchmarks").glob("*.py")
+                 if not p.name.startswith("_") and p.name != "pyelastica.py")
 
 
 @pytest.mark.parametrize("script", SCRIPTS)

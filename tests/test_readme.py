@@ -15,8 +15,9 @@ README = (ROOT / "README.md").read_text(encoding="utf-8")
 SNIPPETS = re.findall(r"```python\n(.*?)```", README, re.S)
 
 
-def test_the_readme_has_its_five_tasks_and_links_that_exist():
-    tasks = ("Solve a scene", "Insert a wire", "Write your own vessel", "Batch many scenes", "in place of SLSQP")
+def test_the_readme_has_its_six_tasks_and_links_that_exist():
+    tasks = ("Solve a scene", "Insert a wire", "Write your own vessel", "Batch many scenes", "in place of SLSQP",
+             "A 3-D wire")
     for heading in tasks:
         assert heading in README
     for link in re.findall(r"\]\(((?:docs)/[^)#]+)\)", README):
@@ -40,12 +41,25 @@ def test_the_readme_toml_is_a_scene_that_solves(tmp_path):
     import guidewire
 
     toml = re.findall(r"```toml\n(.*?)```", README, re.S)
-    assert len(toml) == 1
+    assert len(toml) == 2
     path = tmp_path / "mine.toml"
     path.write_text(toml[0])
     sol = guidewire.solve(guidewire.load_scene(path))
     assert sol.success, sol.message
     assert sol.scene.vessel is not None and len(sol.contacts()) > 0
+
+
+def test_the_readme_3d_toml_is_a_3d_scene_that_solves(tmp_path):
+    import guidewire
+
+    path = tmp_path / "mine3d.toml"
+    path.write_text(re.findall(r"```toml\n(.*?)```", README, re.S)[1])
+    scene = guidewire.load_scene(path)
+    assert isinstance(scene, guidewire.Scene3D) and len(scene.vessel.branches) == 1
+    sol = guidewire.solve3d(scene)
+    assert sol.success, sol.message
+    clearance, _ = scene.vessel.clearance(sol.nodes[1:], scene.wire.diameter / 2)
+    assert clearance.min() > -1e-6
 
 
 def test_the_readme_commands_use_options_the_cli_has():

@@ -7,3 +7,6 @@ from .vessel import Branch3D, Vessel3D
 
 __all__ = ["Branch3D", "Vessel3D"]
 __all__ += ["ARCH_TYPES", "BRANCH_NAMES", "aortic_arch"]
+from .vtp import read_centerlines, write_centerlines  # noqa: E402  (vtk is imported only when they are called)
+
+__all__ += ["read_centerlines", "write_centerlines"]

@@ -1,6 +1,7 @@
-"""Shipped 3-D vessels: a helix and a tortuous coronary-scale vessel (the aortic arches are in
-:mod:`guidewire.vessel3d.arch`). Each is a :class:`~guidewire.vessel3d.vessel.Vessel3D` built from sampled centreline
-points, with a straight lead-in along the entrance tangent so that a clamp at the entrance meets a straight lumen.
+"""Shipped 3-D vessels: a helix and a tortuous coronary-scale vessel, and by name the aortic arches of
+:mod:`guidewire.vessel3d.arch` (``aortic_arch``). Each is a :class:`~guidewire.vessel3d.vessel.Vessel3D` built from
+sampled centreline points, with a straight lead-in along the entrance tangent so that a clamp at the entrance meets a
+straight lumen.
 """
 
 from __future__ import annotations
@@ -9,9 +10,12 @@ import math
 
 import numpy as np
 
+from .arch import aortic_arch
 from .vessel import Vessel3D
 
-SHAPES = ("helix", "tortuous")
+__all__ = ["SHAPES", "aortic_arch", "helix", "tortuous"]
+
+SHAPES = ("aortic_arch", "helix", "tortuous")
 """The shapes a scene file may name (``[vessel] shape = "helix"``)."""
 
 

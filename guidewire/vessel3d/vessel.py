@@ -184,6 +184,18 @@ class Vessel3D:
             memo.update(key=key, value=tuple(best))
         return memo["value"]
 
+    @property
+    def tube_names(self) -> tuple[str, ...]:
+        """Names of the tubes, main first (``"main"``, then each branch's name or ``"branch <i>"``)."""
+        return ("main",) + tuple(b.name or f"branch {i}" for i, b in enumerate(self.branches))
+
+    def tube_of(self, points: FloatArray) -> NDArray[np.int_]:
+        """Index (into :attr:`tube_names`) of the tube each point (m, 3) lies deepest in: the largest clearance
+        ``R(u) − |p − c(u)|`` over the tubes (where a branch leaves its parent, the one whose axis is nearer)."""
+        p = np.atleast_2d(np.asarray(points, dtype=float))
+        depth = np.stack([t.rows(p, np.zeros(len(p)))[0] for t in self._tubes])
+        return np.argmax(depth, axis=0)
+
     def clearance(self, points: FloatArray, radii: FloatArray | float = 0.0) -> tuple[FloatArray, FloatArray]:
         """``(D, n)``: the largest ``R(u) − r − |p − c(u)|`` over the tubes (mm, > 0 inside by that margin) and the
         inward unit normal at each point (m, 3)."""

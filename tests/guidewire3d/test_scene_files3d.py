@@ -84,3 +84,13 @@ def test_rotation_of_a_planar_scene_exits_2(capsys):
     code = main(["insert", str(SCENES / "vessels" / "bend.toml"), "--to", "45", "--step", "5", "--rotate", "3"])
     assert code == 2
     assert "planar" in capsys.readouterr().err
+
+
+def test_solve_writes_an_interactive_html_view(tmp_path, capsys):
+    pytest.importorskip("plotly")
+    page = tmp_path / "view.html"
+    code = main(["solve", str(SCENES / "vessels3d" / "s_bend_3d.toml"), "--html", str(page)])
+    assert code == 0
+    text = page.read_text()
+    assert "plotly" in text.lower() and "s_bend_3d" in text
+    assert "converged" in capsys.readouterr().out

@@ -92,9 +92,9 @@ def _array(data: Any, name: str) -> NDArray[Any] | None:
     arr = data.GetArray(name)
     if arr is None:
         return None
-    n, k = arr.GetNumberOfTuples(), arr.GetNumberOfComponents()
-    out = np.array([arr.GetTuple(i) for i in range(n)], dtype=float).reshape(n, k)
-    return out[:, 0] if k == 1 else out
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    return np.array(vtk_to_numpy(arr), dtype=float)
 
 
 def _dedup(ids: NDArray[np.int64], points: FloatArray) -> NDArray[np.int64]:
@@ -110,17 +110,23 @@ def _length(p: FloatArray) -> float:
     return float(np.sum(np.linalg.norm(np.diff(p, axis=0), axis=1)))
 
 
-def _distance_to(points: FloatArray, line: FloatArray, radii: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """Per point: the distance to the polyline ``line`` and its radius (linear along the segment) there."""
+def _distance_to(points: FloatArray, line: FloatArray, radii: FloatArray,
+                 chunk: int = 256) -> tuple[FloatArray, FloatArray]:
+    """Per point: the distance to the polyline ``line`` and its radius (linear along the segment) there; in chunks
+    of points, so memory stays ``chunk × len(line)``."""
     a, b = line[:-1], line[1:]
     ab = b - a
     ll = np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300)
-    t = np.clip(np.einsum("pij,ij->pi", points[:, None, :] - a[None], ab) / ll, 0.0, 1.0)
-    closest = a[None] + t[..., None] * ab[None]
-    d = np.linalg.norm(points[:, None, :] - closest, axis=2)
-    j = np.argmin(d, axis=1)
-    rows = np.arange(len(points))
-    return d[rows, j], radii[:-1][j] + t[rows, j] * (radii[1:][j] - radii[:-1][j])
+    dist, rad = np.empty(len(points)), np.empty(len(points))
+    for lo in range(0, len(points), chunk):
+        p = points[lo:lo + chunk]
+        t = np.clip(np.einsum("pij,ij->pi", p[:, None, :] - a[None], ab) / ll, 0.0, 1.0)
+        d = np.linalg.norm(p[:, None, :] - (a[None] + t[..., None] * ab[None]), axis=2)
+        j = np.argmin(d, axis=1)
+        rows = np.arange(len(p))
+        dist[lo:lo + chunk] = d[rows, j]
+        rad[lo:lo + chunk] = radii[:-1][j] + t[rows, j] * (radii[1:][j] - radii[:-1][j])
+    return dist, rad
 
 
 def _chains(cells: list[NDArray[np.int64]], points: FloatArray, radius: FloatArray) -> list[NDArray[np.int64]]:
@@ -187,7 +193,9 @@ def read_centerlines(path: str | os.PathLike[str], *, name: str | None = None, e
     lines = poly.GetLines() if poly is not None else None
     if poly is None or poly.GetNumberOfPoints() == 0 or lines is None or lines.GetNumberOfCells() == 0:
         raise ValueError(f"{path}: no polylines (is it a VTK XML PolyData of centrelines, e.g. from vmtkcenterlines?)")
-    points = np.array([poly.GetPoint(i) for i in range(poly.GetNumberOfPoints())], dtype=float) * units_scale
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    points = np.array(vtk_to_numpy(poly.GetPoints().GetData()), dtype=float).reshape(-1, 3) * units_scale
     radius = _array(poly.GetPointData(), RADIUS_ARRAY)
     if radius is None:
         raise ValueError(f"{path}: no point array {RADIUS_ARRAY!r} (the centreline radii; vmtkcenterlines writes it), "

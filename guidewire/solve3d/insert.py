@@ -87,6 +87,9 @@ STEP_MAX_ITER = 40
 MAX_HALVINGS = 5
 """Splits of one step at most (down to 1/32 of it)."""
 
+STEP_BUDGET = 300
+"""Iterations of all the solves of one step together, unless ``max_iter`` says otherwise."""
+
 
 def tracked_multipliers(previous: Solution3D, scene: Scene3D, n: int) -> list[FloatArray] | None:
     """The multipliers of ``previous`` carried to ``scene`` with ``n`` bars, row block by row block, as the track
@@ -119,27 +122,39 @@ def tracked_multipliers(previous: Solution3D, scene: Scene3D, n: int) -> list[Fl
 
 
 def advance(scene: Scene3D, previous: Solution3D, length: float, turn: float, density: float,
-            options: dict[str, Any], depth: int = 0) -> Solution3D:
+            options: dict[str, Any]) -> Solution3D:
     """The step from ``previous`` to ``(length, turn)``, split in halves (recursively, :data:`MAX_HALVINGS` times)
     while a warm-started solve does not converge within :data:`STEP_MAX_ITER` iterations: a wire whose tip meets a
-    wall, or a J-tip that snaps, moves far in one step, and shorter steps keep each start near its answer. The
-    answer carries ``extras["substeps"]``, the number of solves it took."""
+    wall, or a J-tip that snaps, moves far in one step, and shorter steps keep each start near its answer. All the
+    solves of one step share ``options["max_iter"]`` (default :data:`STEP_BUDGET`) iterations, so a step that cannot
+    be followed ends in bounded time, failed, with the message of its last solve. The answer carries
+    ``extras["substeps"]`` (solves made) and ``extras["step_iterations"]`` (their iterations)."""
+    budget = [int(options.get("max_iter", STEP_BUDGET))]
+    rest = {key: value for key, value in options.items() if key != "max_iter"}
+    sol = _advance(scene, previous, length, turn, density, rest, 0, budget)
+    sol.extras["step_iterations"] = int(options.get("max_iter", STEP_BUDGET)) - budget[0]
+    return sol
+
+
+def _advance(scene: Scene3D, previous: Solution3D, length: float, turn: float, density: float,
+             options: dict[str, Any], depth: int, budget: list[int]) -> Solution3D:
     target = scene_at(scene, length, turn, density)
-    limit = min(int(options.get("max_iter", STEP_MAX_ITER)), STEP_MAX_ITER) if depth < MAX_HALVINGS else None
-    tries = dict(options, max_iter=limit) if limit is not None else options
+    last = depth >= MAX_HALVINGS
+    limit = budget[0] if last else min(budget[0], STEP_MAX_ITER)
     frames = tracked_frames(previous, target)
     sol = solve3d(target, initial_frames=frames, initial_multipliers=tracked_multipliers(previous, target, len(frames)),
-                  **tries)
-    if sol.success or limit is None:
-        sol.extras["substeps"] = 1
+                  max_iter=max(1, limit), **options)
+    budget[0] -= sol.iterations
+    sol.extras["substeps"] = 1
+    if sol.success or last or budget[0] <= 0:
         return sol
     before = float(np.sum(previous.lengths))
-    middle = advance(scene, previous, 0.5 * (before + length), 0.5 * (previous.base_rotation + turn), density,
-                     options, depth + 1)
+    middle = _advance(scene, previous, 0.5 * (before + length), 0.5 * (previous.base_rotation + turn), density,
+                      options, depth + 1, budget)
     if not middle.success:
         return middle
-    sol = advance(scene, middle, length, turn, density, options, depth + 1)
-    sol.extras["substeps"] = middle.extras["substeps"] + sol.extras["substeps"]
+    sol = _advance(scene, middle, length, turn, density, options, depth + 1, budget)
+    sol.extras["substeps"] += middle.extras["substeps"]
     return sol
 
 

@@ -45,19 +45,19 @@ from guidewire.vessel3d.shapes import helix
 SCENES = Path(__file__).resolve().parents[1] / "guidewire" / "scenes" / "vessels3d"
 STEVE_J = (Section.arc(12.1, 0.4 * math.pi, youngs_modulus=17000.0, diameter=0.7),)
 GROWTH_BARS = (100, 200, 400, 800, 1600, 3200)
-QUICK_GROWTH = (100, 200)
+QUICK_GROWTH = (60, 120)
 
 
 def cases(quick: bool, density: float) -> list[tuple[str, Scene3D, np.ndarray, np.ndarray]]:
     """(name, scene at its first length, lengths, rotations) of every insertion."""
-    top = 40.0 if quick else 100.0
+    top = 16.0 if quick else 100.0
     straight = Wire(length=10.0, bars=round(10 * density), youngs_modulus=80000.0, diameter=0.89)
     j_wire = Wire(length=10.0, bars=round(10 * density), youngs_modulus=80000.0, diameter=0.89, sections=STEVE_J)
     push = np.arange(10.0, top + 0.5, 1.0)
-    turns = np.radians(np.arange(15.0, 361.0 if not quick else 91.0, 15.0))
+    turns = np.radians(np.arange(15.0, 361.0 if not quick else 31.0, 15.0))
     s_bend = load_scene(SCENES / "s_bend_3d.toml")
     s_wire = Wire(length=10.0, bars=round(10 * density), youngs_modulus=60000.0, diameter=0.36)
-    s_push = np.arange(10.0, (45.0 if quick else 80.0) + 0.5, 1.0)
+    s_push = np.arange(10.0, (16.0 if quick else 80.0) + 0.5, 1.0)
     return [
         ("helix, straight wire", Scene3D.in_vessel(straight, helix()), push, np.zeros(push.size)),
         ("helix, J wire, push then turn", Scene3D.in_vessel(j_wire, helix()),

@@ -74,18 +74,7 @@ def _insert(args: argparse.Namespace) -> int:
     scene = _load(args.scene)
     if isinstance(scene, Scene3D):
         return insert_3d(args, scene)
-    if args.rotate is not None or args.schedule is not None or args.html is not None:
-        raise BadInput(f"{args.scene} is a planar scene: --rotate, --schedule and --html need a 3-D scene (a vessel "
-                       "centreline with three columns, a shipped 3-D shape or a .vtp file)")
-    if args.to is None or args.step is None:
-        raise BadInput("give --to and --step (mm)")
-    first = scene.wire.length if args.start is None else args.start
-    if args.to < first:
-        raise BadInput(f"--to {args.to:g} is shorter than the first inserted length {first:g} mm")
-    lengths = np.arange(first, args.to + 0.5 * args.step, args.step)
-    for flag in ("json", "plot", "gif"):
-        check_output_dir(getattr(args, flag), f"--{flag}")
-    check_size(args, lengths, scene.wire.bars / scene.wire.length)
+    first, lengths = _planar_lengths(args, scene)
     start_scene = scene.with_wire(length=first, bars=max(1, round(first * scene.wire.bars / scene.wire.length)))
     flagged = [0]
     report = _step_printer(args.quiet, flagged)
@@ -103,6 +92,23 @@ def _insert(args: argparse.Namespace) -> int:
     if out.steps and (args.plot is not None or args.gif is not None):
         _insertion_figures(out, args.plot, args.gif)
     return EXIT_OK if out.complete and all(s.success for s in out.steps) else EXIT_NOT_CONVERGED
+
+
+def _planar_lengths(args: argparse.Namespace, scene: Scene) -> tuple[float, np.ndarray]:
+    """The first inserted length and every step's of a planar ``insert``, its options checked before any work."""
+    if args.rotate is not None or args.schedule is not None or args.html is not None:
+        raise BadInput(f"{args.scene} is a planar scene: --rotate, --schedule and --html need a 3-D scene (a vessel "
+                       "centreline with three columns, a shipped 3-D shape or a .vtp file)")
+    if args.to is None or args.step is None:
+        raise BadInput("give --to and --step (mm)")
+    first = scene.wire.length if args.start is None else args.start
+    if args.to < first:
+        raise BadInput(f"--to {args.to:g} is shorter than the first inserted length {first:g} mm")
+    lengths = np.arange(first, args.to + 0.5 * args.step, args.step)
+    for flag in ("json", "plot", "gif"):
+        check_output_dir(getattr(args, flag), f"--{flag}")
+    check_size(args, lengths, scene.wire.bars / scene.wire.length)
+    return first, lengths
 
 
 def _step_printer(quiet: bool, flagged: list[int]) -> Any:

@@ -158,6 +158,26 @@ def _advance(scene: Scene3D, previous: Solution3D, length: float, turn: float, d
     return sol
 
 
+def checked_steps(scene: Scene3D, lengths: Iterable[float],
+                  rotations: Iterable[float] | float | None) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """The lengths (mm) and clamp rotations (rad) of :func:`insert3d`, one each per step; a ValueError naming the
+    field otherwise."""
+    values = tuple(float(v) for v in lengths)
+    if not values or any(not np.isfinite(v) or v <= 0.0 for v in values):
+        raise ValueError("lengths must be positive finite inserted lengths (mm), e.g. numpy.arange(10, 101, 1.0).")
+    if rotations is None:
+        return values, (scene.base.rotation,) * len(values)
+    if np.ndim(rotations) == 0:
+        return values, (float(rotations),) * len(values)  # type: ignore[arg-type]
+    turns = tuple(float(v) for v in rotations)  # type: ignore[union-attr]
+    if len(turns) != len(values):
+        raise ValueError(f"rotations has {len(turns)} values for {len(values)} lengths; give one rotation (rad) per "
+                         "step, or one number for all.")
+    if not all(np.isfinite(turns)):
+        raise ValueError("rotations must be finite (rad).")
+    return values, turns
+
+
 def insert3d(scene: Scene3D, lengths: Iterable[float], rotations: Iterable[float] | float | None = None, *,
              progress: Callable[[Solution3D, int, int], None] | None = None, **options: Any) -> Insertion3D:
     """Push, pull and turn the wire of ``scene`` through ``lengths`` (mm) and clamp ``rotations`` (rad).
@@ -181,21 +201,8 @@ def insert3d(scene: Scene3D, lengths: Iterable[float], rotations: Iterable[float
     Insertion3D
         A failed step is kept (its status and message say why) and ends the insertion.
     """
-    values = tuple(float(v) for v in lengths)
-    if not values or any(not np.isfinite(v) or v <= 0.0 for v in values):
-        raise ValueError("lengths must be positive finite inserted lengths (mm), e.g. numpy.arange(10, 101, 1.0).")
-    if rotations is None:
-        turns = (scene.base.rotation,) * len(values)
-    elif np.ndim(rotations) == 0:
-        turns = (float(rotations),) * len(values)  # type: ignore[arg-type]
-    else:
-        turns = tuple(float(v) for v in rotations)  # type: ignore[union-attr]
-        if len(turns) != len(values):
-            raise ValueError(f"rotations has {len(turns)} values for {len(values)} lengths; give one rotation (rad) "
-                             "per step, or one number for all.")
-        if not all(np.isfinite(turns)):
-            raise ValueError("rotations must be finite (rad).")
-    for key in ("initial_frames", "initial_nodes"):
+    values, turns = checked_steps(scene, lengths, rotations)
+    for key in ("initial_frames", "initial_nodes", "initial_multipliers"):
         if key in options:
             raise ValueError(f"{key} is set by the insertion (each step starts from the last); do not pass it.")
     density = scene.wire.bars / scene.wire.length

@@ -63,17 +63,8 @@ def solve3d(scene: Scene3D, *, initial_nodes: Any = None, initial_frames: Any = 
     """
     if not isinstance(scene, Scene3D):
         raise TypeError(f"scene is {type(scene).__name__}; expected guidewire.solve3d.Scene3D.")
-    if initial_nodes is not None and initial_frames is not None:
-        raise ValueError("give initial_nodes or initial_frames, not both.")
     start = time.perf_counter()
-    lengths, contact_nodes = bar_layout(scene)
-    if initial_frames is not None:
-        q0 = np.asarray(initial_frames, dtype=float)
-        if q0.shape != (lengths.size, 4) or not np.all(np.isfinite(q0)):
-            raise ValueError(f"initial_frames has shape {q0.shape}; expected ({lengths.size}, 4) finite quaternions.")
-    else:
-        q0 = start_frames(scene, lengths, contact_nodes, initial_nodes)
-    program = Program.build(scene, q0)
+    program = Program.build(scene, _first_frames(scene, initial_nodes, initial_frames))
     # (the augmented-Lagrangian convexification on the closure equalities only: a wire in a vessel changes its
     # touching nodes at every iteration, and the term on released lumen rows made convergence linear)
     options: dict[str, Any] = {"tol": tol, "max_iter": max_iter, "verbose": verbose,
@@ -101,6 +92,19 @@ def solve3d(scene: Scene3D, *, initial_nodes: Any = None, initial_frames: Any = 
     return answer(program, res, iterations, rounds, time.perf_counter() - start)
 
 
+def _first_frames(scene: Scene3D, initial_nodes: Any, initial_frames: Any) -> FloatArray:
+    """The frames the first round starts from: ``initial_frames`` (checked), else :func:`start_frames`."""
+    if initial_nodes is not None and initial_frames is not None:
+        raise ValueError("give initial_nodes or initial_frames, not both.")
+    lengths, contact_nodes = bar_layout(scene)
+    if initial_frames is None:
+        return start_frames(scene, lengths, contact_nodes, initial_nodes)
+    q0 = np.asarray(initial_frames, dtype=float)
+    if q0.shape != (lengths.size, 4) or not np.all(np.isfinite(q0)):
+        raise ValueError(f"initial_frames has shape {q0.shape}; expected ({lengths.size}, 4) finite quaternions.")
+    return q0
+
+
 def answer(program: Program, res: Any, iterations: int, rounds: int, seconds: float) -> Solution3D:
     """The :class:`Solution3D` of ``program`` at ``res`` (forces only for a success)."""
     scene = program.scene
@@ -116,50 +120,61 @@ def answer(program: Program, res: Any, iterations: int, rounds: int, seconds: fl
                               float(np.max(np.abs(nodes - nodes_var)))}
     success = bool(res.success)
     if success:
-        lam = list(res.constraint_multipliers)
-        extras["multipliers"] = [np.asarray(v, dtype=float) for v in lam]
-        clamp_f = np.asarray(lam[0], dtype=float)[:3].copy()
-        e = program.energy
-        clamp_m = clamp_moment(e.base, q[0], e.joint_bending[0], e.joint_twist[0], e.joint_rest[0])
-        index = 1
-        pinned = [(int(k), c) for k, c in zip(program.contact_nodes, scene.contacts, strict=True)
-                  if c.point is not None]
-        if pinned:
-            values = np.asarray(lam[index], dtype=float).reshape(-1, 3)
-            for (k, _), f in zip(pinned, values, strict=True):
-                norm = float(np.linalg.norm(f))
-                forces.append(ContactForce3D("contact", k, nodes[k], f / norm if norm > 0 else np.zeros(3), f))
-            index += 1
-        if scene.walls:
-            values = np.asarray(lam[index], dtype=float).reshape(len(scene.walls), program.n)
-            for w, row in zip(scene.walls, values, strict=True):
-                normal = np.asarray(w.normal, dtype=float)
-                for k in np.flatnonzero(row != 0.0):  # (λ ≤ 0 on an upper side: the wall pushes along −n̂)
-                    forces.append(ContactForce3D("wall", int(k) + 1, nodes[k + 1], -normal, row[k] * normal))
-            index += 1
-        if scene.vessel is not None:
-            values = np.asarray(lam[index], dtype=float)
-            g = scene.vessel.lumen_rows(nodes_var[1:], node_radii(scene, program.lengths))[0]
-            active = np.flatnonzero((values > 0.0) & (g <= TOUCHING * scene.wire.length))
-            grad = scene.vessel.lumen_rows(nodes_var[1:], node_radii(scene, program.lengths))[1][active]
-            for j, k in enumerate(active):
-                norm = float(np.linalg.norm(grad[j]))
-                forces.append(ContactForce3D("lumen", int(k) + 1, nodes[k + 1], grad[j] / norm,
-                                             values[k] * grad[j]))
-        if scene.tip_force is not None:
-            f = np.asarray(scene.tip_force, dtype=float)
-            norm = float(np.linalg.norm(f))
-            forces.append(ContactForce3D("tip", program.n, nodes[-1], f / norm if norm > 0 else np.zeros(3), f))
-        moment = np.zeros(3)
-        for b, side, w, r, g, star in zip(e.half_bar, e.half_side, e.half_weight, e.half_rest, e.half_twist,
-                                          e.half_frame, strict=True):
-            moment += half_joint_moment(star, q[b], w, r, g, side > 0)
-        extras["contact_moment"] = moment
+        clamp_f, clamp_m, forces = external_forces(program, list(res.constraint_multipliers), nodes, nodes_var, q,
+                                                   extras)
     return Solution3D(success=success, status=int(res.status), message=str(res.message), nodes=nodes,
                       frames=quat.to_frames(q), quaternions=q, bending_energy=parts.bending,
                       twist_energy=parts.twist, twist=twist, base_rotation=scene.base.rotation, forces=forces,
                       clamp_force=clamp_f, clamp_moment=clamp_m, iterations=iterations, rounds=rounds,
                       solve_time_s=seconds, lengths=program.lengths, extras=extras)
+
+
+def external_forces(program: Program, lam: list[Any], nodes: FloatArray, nodes_var: FloatArray, q: FloatArray,
+                    extras: dict[str, Any]) -> tuple[FloatArray, FloatArray, list[ContactForce3D]]:
+    """The clamp's force and moment and every other external force of a converged solve, from its multipliers
+    ``lam`` (one array per row block, in the program's order); sets ``extras["multipliers"]`` and
+    ``extras["contact_moment"]`` (the moments that contacts holding a tangent exert)."""
+    scene = program.scene
+    forces: list[ContactForce3D] = []
+    extras["multipliers"] = [np.asarray(v, dtype=float) for v in lam]
+    clamp_f = np.asarray(lam[0], dtype=float)[:3].copy()
+    e = program.energy
+    clamp_m = clamp_moment(e.base, q[0], e.joint_bending[0], e.joint_twist[0], e.joint_rest[0])
+    index = 1
+    pinned = [(int(k), c) for k, c in zip(program.contact_nodes, scene.contacts, strict=True)
+              if c.point is not None]
+    if pinned:
+        values = np.asarray(lam[index], dtype=float).reshape(-1, 3)
+        for (k, _), f in zip(pinned, values, strict=True):
+            norm = float(np.linalg.norm(f))
+            forces.append(ContactForce3D("contact", k, nodes[k], f / norm if norm > 0 else np.zeros(3), f))
+        index += 1
+    if scene.walls:
+        values = np.asarray(lam[index], dtype=float).reshape(len(scene.walls), program.n)
+        for w, row in zip(scene.walls, values, strict=True):
+            normal = np.asarray(w.normal, dtype=float)
+            for k in np.flatnonzero(row != 0.0):  # (λ ≤ 0 on an upper side: the wall pushes along −n̂)
+                forces.append(ContactForce3D("wall", int(k) + 1, nodes[k + 1], -normal, row[k] * normal))
+        index += 1
+    if scene.vessel is not None:
+        values = np.asarray(lam[index], dtype=float)
+        g = scene.vessel.lumen_rows(nodes_var[1:], node_radii(scene, program.lengths))[0]
+        active = np.flatnonzero((values > 0.0) & (g <= TOUCHING * scene.wire.length))
+        grad = scene.vessel.lumen_rows(nodes_var[1:], node_radii(scene, program.lengths))[1][active]
+        for j, k in enumerate(active):
+            norm = float(np.linalg.norm(grad[j]))
+            forces.append(ContactForce3D("lumen", int(k) + 1, nodes[k + 1], grad[j] / norm,
+                                         values[k] * grad[j]))
+    if scene.tip_force is not None:
+        f = np.asarray(scene.tip_force, dtype=float)
+        norm = float(np.linalg.norm(f))
+        forces.append(ContactForce3D("tip", program.n, nodes[-1], f / norm if norm > 0 else np.zeros(3), f))
+    moment = np.zeros(3)
+    for b, side, w, r, g, star in zip(e.half_bar, e.half_side, e.half_weight, e.half_rest, e.half_twist,
+                                      e.half_frame, strict=True):
+        moment += half_joint_moment(star, q[b], w, r, g, side > 0)
+    extras["contact_moment"] = moment
+    return clamp_f, clamp_m, forces
 
 
 def joint_twists(base: FloatArray, q: FloatArray) -> FloatArray:

@@ -4,7 +4,9 @@ from 20 on (sqp's own use 0-15 and 99)."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from enum import IntEnum
+from typing import Any
 
 import sqp
 
@@ -36,12 +38,23 @@ class _Coded(IntEnum):
 GUIDEWIRE_STATUSES = {
     "SHAPE_REJECTED": (20, "The solver converged, but to a shape that fails a check a user would see (bars crossing "
                            "each other, or the wire leaving the vessel)."),
+    "SCENE_REFUSED": (21, "The scene was refused before any solve (a value out of range, or a scene that cannot be "
+                          "met, such as contacts farther apart than the wire is long); the message says which."),
 }
 
 Status = _Coded("Status", {**{s.name: (s.code, s.message) for s in sqp.Status}, **GUIDEWIRE_STATUSES},
                 module=__name__)
 Status.__doc__ = """Why a solve ended (``Solution.status``): every :class:`sqp.Status` (same name, code and message)
-and :data:`GUIDEWIRE_STATUSES` (SHAPE_REJECTED = 20)."""
+and :data:`GUIDEWIRE_STATUSES` (SHAPE_REJECTED = 20, SCENE_REFUSED = 21)."""
 
 #: ``Solution.status`` of a run that converged to a shape failing :func:`guidewire.solve.result.shape_defect`.
 SHAPE_REJECTED = Status.SHAPE_REJECTED
+
+
+def outcome(steps: Sequence[Any], error: str | None) -> Any:
+    """The :class:`Status` of a run of steps (an insertion, a sequence): the first failed step's, else SCENE_REFUSED
+    when a step's scene was refused before solving (``error``), else SUCCESS."""
+    for step in steps:
+        if not step.success:
+            return Status(step.status)
+    return Status.SCENE_REFUSED if error is not None else Status.SUCCESS

@@ -35,6 +35,7 @@ from typing import Any
 from ..scene.scene import Scene
 from ..solve.front import solve
 from ..solve.result import Solution
+from ..status import Status
 
 #: Fields of the raw ``sqp`` result that a batch does not ship back (see the module docstring).
 SLIM_DROPPED = ("hess",)
@@ -61,6 +62,8 @@ class SceneError:
         ``"load"`` and ``"executor"`` are retried by a resumed :func:`solve_files`.
     success : bool
         Always False, so that ``result.success`` reads the same for every result of a batch.
+    status : Status
+        SCENE_REFUSED, so that ``result.status`` reads the same for every result of a batch.
     """
 
     scene: Scene | None
@@ -68,6 +71,7 @@ class SceneError:
     error_type: str
     stage: str = "solve"
     success: bool = field(default=False, init=False)
+    status: Status = field(default=Status.SCENE_REFUSED, init=False)
 
     def __post_init__(self) -> None:
         if self.stage not in STAGES:

@@ -24,6 +24,7 @@ from ..scene.file import scene_to_dict
 from ..scene.scene import Scene
 from ..solve.front import solve
 from ..solve.result import UNITS, Solution
+from ..status import Status, outcome
 
 FloatArray = NDArray[np.float64]
 
@@ -53,11 +54,17 @@ class Insertion:
     def complete(self) -> bool:
         return self.error is None and len(self.steps) == len(self.lengths)
 
+    @property
+    def status(self) -> Status:
+        """Why the insertion ended (:func:`guidewire.status.outcome`): SUCCESS, a failed step's status, or
+        SCENE_REFUSED."""
+        return outcome(self.steps, self.error)
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: ``units``, ``scene`` (the first step's), and ``steps`` (see :func:`step_record`)."""
         return {
             "units": UNITS, "scene": scene_to_dict(self.steps[0].scene) if self.steps else None,
-            "complete": self.complete, "error": self.error,
+            "complete": self.complete, "status": self.status.name, "error": self.error,
             "steps": [dict(step_record(sol), started=how) for sol, how in zip(self.steps, self.started, strict=True)],
         }
 

@@ -15,6 +15,7 @@ from ..program.model import ModelReuse
 from ..scene.scene import Scene
 from ..solve.front import solve
 from ..solve.result import Solution
+from ..status import Status, outcome
 
 #: The predictor of :func:`solve_sequence` extrapolates along scene changes at least this parallel (cosine).
 SECANT_COSINE = 0.999
@@ -46,6 +47,12 @@ class SequenceResult:
     def complete(self) -> bool:
         """Every step was solved (each may still have failed: see its ``success``)."""
         return self.error is None
+
+    @property
+    def status(self) -> Status:
+        """Why the sequence ended (:func:`guidewire.status.outcome`): SUCCESS, the first failed step's status, or
+        SCENE_REFUSED."""
+        return outcome(self.solutions, self.error)
 
     def __len__(self) -> int:
         return len(self.solutions)

@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 
 from ..rod import kinematics
 from ..rod import quaternion as quat
+from ..status import Status, outcome
 from .program import bar_layout
 from .result import Solution3D
 from .scene import Scene3D
@@ -46,8 +47,13 @@ class Insertion3D:
     def complete(self) -> bool:
         return self.error is None and len(self.steps) == len(self.lengths)
 
+    @property
+    def status(self) -> Status:
+        """Why the insertion ended (:func:`guidewire.status.outcome`)."""
+        return outcome(self.steps, self.error)
+
     def to_dict(self) -> dict[str, Any]:
-        return {"complete": self.complete, "error": self.error, "seconds": self.seconds,
+        return {"complete": self.complete, "status": self.status.name, "error": self.error, "seconds": self.seconds,
                 "steps": [dict(s.to_dict(), inserted_length=float(np.sum(s.lengths)), rotation=s.base_rotation)
                           for s in self.steps]}
 

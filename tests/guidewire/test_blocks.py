@@ -10,6 +10,7 @@ from typing import ClassVar
 import numpy as np
 import pytest
 
+import guidewire
 import guidewire.program.formulation
 from guidewire import Base, Scene, Wall, Wire, formulate, paper_scenes, solve, solve_sequence
 from guidewire.blocks import BLOCK_TYPES, Block, Loads, NodeRows
@@ -124,6 +125,19 @@ def test_sequence_keeps_the_solved_steps_when_one_is_refused():
     out = solve_sequence([scene, far, scene])
     assert len(out) == 1 and out[0].success and not out.complete
     assert out.failed_step == 1 and "500.00 mm apart" in out.error
+    assert out.status is guidewire.Status.SCENE_REFUSED
+
+
+def test_runs_of_steps_report_one_status():
+    """Solve, insertion, sequence and batch results all carry a :class:`guidewire.Status`: SUCCESS when every step
+    converged, a failed step's own status, SCENE_REFUSED for a scene refused before solving."""
+    scene = SCENES["table1_pi_4"]
+    assert solve_sequence([scene, scene]).status is guidewire.Status.SUCCESS
+    failing = solve_sequence([scene], max_iter=1)
+    assert not failing[0].success and failing.status == failing[0].status == guidewire.Status.MAX_ITER
+    far = replace(scene, contacts=(replace(scene.contacts[0], point=(500.0, 0.0)),))
+    refused = guidewire.solve_many([far], workers=1, progress=False)[0]
+    assert refused.status is guidewire.Status.SCENE_REFUSED and not refused.success
 
 
 def test_json_carries_units_and_the_scene():

@@ -13,7 +13,8 @@ from guidewire import Scene, Wall, Wire
 from guidewire import initial_shape as shape
 from guidewire.chain.kinematics import BarChain, scene_bars
 
-SCENES = sorted((Path(guidewire.__file__).parent / "scenes").rglob("*.toml"))
+SCENES = sorted(p for p in (Path(guidewire.__file__).parent / "scenes").rglob("*.toml")
+                if "vessels3d" not in p.parts)  # (the planar scenes: 3-D ones are tests/guidewire3d's)
 
 
 def _eager_free_part_angles(scene, start, angle, lengths):

@@ -35,7 +35,7 @@ DEFAULT_QP_OPTIONS: dict[str, dict[str, Any]] = {
 
 #: When a backend's answer is not found (OSQP: "solved inaccurate" at the tight default), it is asked again with these
 #: looser tolerances; the answer is still only used if it passes the residual check
-#: (:data:`sqp.subproblem.QP_RESIDUAL_TOL`).
+#: (:data:`sqp.qp_call.QP_RESIDUAL_TOL`).
 RETRY_QP_OPTIONS: dict[str, list[dict[str, Any]]] = {
     "osqp": [{"eps_abs": 1e-7, "eps_rel": 1e-7}, {"eps_abs": 1e-5, "eps_rel": 1e-5, "max_iter": 20000}],
     "proxqp": [{"eps_abs": 1e-7}],

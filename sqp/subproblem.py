@@ -1,4 +1,5 @@
-"""The QP subproblem (paper Eqs. 9–10) through qpsolvers, its elastic relaxation, and a check of every answer.
+"""The QP subproblem (paper Eqs. 9–10) and its elastic relaxation, assembled and solved (:mod:`sqp.qp_call` asks the
+qpsolvers backends and checks every answer).
 
 At an iterate ``x`` with nonlinear rows ``lb <= c(x) <= ub`` (Jacobian ``J``), linear rows ``lb <= A x <= ub`` and
 bounds ``lower <= x <= upper`` the step ``d`` solves
@@ -16,29 +17,19 @@ Multipliers follow one convention throughout the engine (Nocedal & Wright): ``gr
 
 from __future__ import annotations
 
-import contextlib
-import os
-import sys
-import warnings
-from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import qpsolvers
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from sqp import backends as _backends
-from sqp.backends import RETRY_QP_OPTIONS
 from sqp.kkt import inf_norm
 from sqp.problem import Rows
+from sqp.qp_call import QP_RESIDUAL_TOL, Backends, solve_qp
 from sqp.structured import equality_kkt, needs_convexification, range_space_kkt
 
 Array = NDArray[np.float64]
-
-#: A QP answer is trusted when its primal and dual residuals are below this, relative to the data's scale.
-QP_RESIDUAL_TOL = 1e-6
 
 
 @dataclass(frozen=True)
@@ -82,12 +73,6 @@ class QPStep:
     slack: float
     status: str
     v_lin: Array | None = None
-
-
-#: What a QP backend raises when it fails a subproblem (qpsolvers' own errors; quadprog's ValueError on an indefinite
-#: or inconsistent problem, numpy's LinAlgError, a C extension's RuntimeError, an overflow). Anything else, a
-#: TypeError or an AttributeError say, is a bug of this package and is not dressed up as "QP failed".
-BACKEND_ERRORS: tuple[type[Exception], ...] = (qpsolvers.QPError, ValueError, ArithmeticError, RuntimeError)
 
 
 def linearise(J: Array, c: Array, rows: Rows) -> LinearisedRows:
@@ -154,120 +139,6 @@ def _row_multipliers(rows: Rows, y: Array, z: Array, where: tuple[int, ...]) -> 
     return lam
 
 
-def _prepare(solver: str, P: Any, G: Any, E: Any) -> tuple[Any, Any, Any]:
-    """Dense arrays for dense-only backends, CSC for sparse ones. PIQP and ProxQP have both kinds of backend: they
-    get CSC when the model Hessian is sparse (the large case), dense arrays otherwise (faster for small QPs)."""
-    if solver in qpsolvers.sparse_solvers and (solver not in ("piqp", "proxqp") or sp.issparse(P)):
-        conv = lambda M: None if M is None else sp.csc_matrix(M)  # noqa: E731
-    else:
-        conv = lambda M: None if M is None else (M.toarray() if sp.issparse(M) else np.asarray(M))  # noqa: E731
-    # (DAQP keeps a CholeskyHessian's factor: sqp.backends solves a large QP in the factor's coordinates)
-    return P if solver == "daqp" and isinstance(P, np.ndarray) else conv(P), conv(G), conv(E)
-
-
-Backends = Sequence[tuple[str, dict[str, Any]]]
-
-
-def _solve(
-    backends: Backends, P: Any, q: Array, G: Any, h: Array, E: Any, e: Array, lb: Array | None, ub: Array | None,
-    initvals: Array | None, scale: float,
-) -> tuple[qpsolvers.Solution | None, str]:
-    """Ask each backend in turn (with its retries) until one gives an answer that passes the residual check.
-
-    Returns the trusted solution and the backend's name, or ``(None, reason)``; a certified infeasibility ends the
-    search at once (the elastic QP is the remedy for that, not another backend).
-    """
-    reason = "QP failed"
-    for solver, options in backends:
-        Ps, Gs, Es = _prepare(solver, P, G if G.shape[0] else None, E if E.shape[0] else None)
-        problem = qpsolvers.Problem(Ps, q, Gs, h if Gs is not None else None, Es, e if Es is not None else None,
-                                    lb, ub)
-        for retry in [{}, *RETRY_QP_OPTIONS.get(solver, [])]:
-            try:
-                quiet = _silence_c_stdout() if solver == "osqp" else contextlib.nullcontext()
-                with warnings.catch_warnings(), quiet:
-                    warnings.simplefilter("ignore")
-                    sol = _backends.solve_problem(problem, solver=solver, initvals=initvals,
-                                                  **{**options, **retry})
-            except BACKEND_ERRORS:  # a backend's error is a failed subproblem; any other is our bug, and propagates
-                sol = None
-            if not isinstance(sol, qpsolvers.Solution):
-                sol = None  # nothing usable came back
-            if _trusted(sol, scale):
-                return sol, solver
-            if sol is not None and _declared_infeasible(sol):
-                return None, "QP infeasible"
-    return None, reason
-
-
-def _declared_infeasible(sol: qpsolvers.Solution) -> bool:
-    """Whether the backend certified primal infeasibility (no point in retrying with looser tolerances, nor in
-    asking the next backend): OSQP's and PIQP's ``info.status``, Clarabel's ``status`` (``PrimalInfeasible``, not
-    ``AlmostPrimalInfeasible``); a dual infeasibility is not one. DAQP's exit flag -1 is not trusted as a
-    certificate: it also ends elastic QPs, which are feasible by construction (a contradictory pair of equalities,
-    tests/sqp/test_faults.py). Measured on the aortic arch's cold solve at 250 bars: Clarabel's two attempts at each
-    of 9 inconsistent QPs cost 0.6 s of 1.8 s."""
-    extras = sol.extras if isinstance(sol.extras, dict) else {}
-    status = str(getattr(extras.get("info"), "status", "") or extras.get("status", "")).lower()
-    return "infeasible" in status and "inaccurate" not in status and "almost" not in status and "dual" not in status
-
-
-@contextlib.contextmanager
-def _silence_c_stdout() -> Iterator[None]:
-    """Redirect the process's stdout file descriptor to /dev/null (OSQP's C code prints
-    "Polishing not needed" unconditionally)."""
-    try:
-        fd = sys.__stdout__.fileno() if sys.__stdout__ is not None else 1
-    except (AttributeError, OSError, ValueError):
-        yield
-        return
-    sys.stdout.flush()
-    saved = os.dup(fd)
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    try:
-        os.dup2(devnull, fd)
-        yield
-    finally:
-        os.dup2(saved, fd)
-        os.close(saved)
-        os.close(devnull)
-
-
-def _trusted(sol: qpsolvers.Solution | None, scale: float) -> bool:
-    if sol is None or not sol.found or sol.x is None or not np.isfinite(sol.x).all():
-        return False
-    try:
-        with np.errstate(all="ignore"):  # (an overflowing answer fails the test below; no warning for it)
-            prim, dual = _residuals(sol)
-    except (ValueError, ArithmeticError):  # an answer of the wrong shape, or overflowing
-        return False
-    return bool(np.isfinite(prim) and np.isfinite(dual) and prim <= QP_RESIDUAL_TOL * scale
-                and dual <= QP_RESIDUAL_TOL * scale)
-
-
-def _residuals(sol: qpsolvers.Solution) -> tuple[float, float]:
-    """qpsolvers' ``primal_residual()`` and ``dual_residual()`` of a found solution, the same numbers by the same
-    operations in the same order, in one pass over the problem (a third of their cost on small QPs):
-    ``max(0, [G x - h]^+, ||A x - b||_inf, [lb - x]^+, [x - ub]^+)`` and ``||P x + q + G^T z + A^T y + z_box||_inf``
-    (``inf`` when a multiplier the problem needs is missing)."""
-    qp, x = sol.problem, sol.x
-    prim = 0.0
-    r = qp.P.dot(x) + qp.q
-    if qp.G is not None:
-        prim = max(prim, float(np.max(qp.G.dot(x) - qp.h)))
-        r = r + qp.G.T.dot(sol.z) if sol.z is not None else None
-    if qp.A is not None:
-        prim = max(prim, float(np.max(np.abs(qp.A.dot(x) - qp.b))))
-        r = None if r is None or sol.y is None else r + qp.A.T.dot(sol.y)
-    if qp.lb is not None:
-        prim = max(prim, float(np.max(qp.lb - x)))
-    if qp.ub is not None:
-        prim = max(prim, float(np.max(x - qp.ub)))
-    if qp.lb is not None or qp.ub is not None:
-        r = None if r is None or sol.z_box is None else r + sol.z_box
-    return prim, (np.inf if r is None else inf_norm(r))
-
-
 def solve_subproblem(
     B: Any,
     g: Array,
@@ -327,7 +198,7 @@ def _solve_plain(B: Any, g: Array, nonlinear: LinearisedRows, linear: Linearised
                           found=True, elastic=False, slack=0.0, status="kkt")
     if needs_convexification(B):
         return _failed(n, nonlinear, linear, "indefinite")
-    sol, used = _solve(backends, B, g, G, h, E, e, box_lo if has_box else None, box_hi if has_box else None,
+    sol, used = solve_qp(backends, B, g, G, h, E, e, box_lo if has_box else None, box_hi if has_box else None,
                        initvals, scale)
     if sol is None:
         return _failed(n, nonlinear, linear, used)
@@ -418,7 +289,7 @@ def _solve_elastic(
     lo = np.concatenate([box_lo, np.zeros(k)])
     hi = np.concatenate([box_hi, np.full(k, np.inf)])
     x0 = None if initvals is None else np.concatenate([initvals, np.zeros(k)])
-    sol, used = _solve(backends, P, q, G, h, E, el, lo, hi, x0, max(scale, rho))
+    sol, used = solve_qp(backends, P, q, G, h, E, el, lo, hi, x0, max(scale, rho))
     if sol is None:
         return _failed(n, nonlinear, linear, "elastic QP failed")
     z = np.zeros(0) if sol.z is None else np.asarray(sol.z, dtype=float).ravel()

@@ -29,8 +29,8 @@ Reading (:func:`read_centerlines`)
    the main centreline, so that another can be chosen with ``main``. Nothing is smoothed.
 5. ``units_scale`` multiplies coordinates and radii (VMTK keeps the image's units, usually mm; 10 for cm).
 
-Writing (:func:`write_centerlines`)
------------------------------------
+Writing (:func:`write_centerlines`, in :mod:`~guidewire.vessel3d.vtp_write`)
+----------------------------------------------------------------------------
 One polyline per tube end, in tube order (main first): the path from the entrance through the parent tubes (each cut
 at its sample nearest the child's first point) to the tube's last point, with ``CenterlineIds`` (cell),
 ``MaximumInscribedSphereRadius`` (point, the vessel's radii) — VMTK's layout, read back by the VMTK rules above. A
@@ -181,106 +181,24 @@ def read_centerlines(path: str | os.PathLike[str], *, name: str | None = None, e
         starts outside the lumen; or :class:`Vessel3D`'s checks.
     """
     vtk = _vtk()
-    path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"{path}: no such VMTK centreline file.")
-    if not (np.isfinite(units_scale) and units_scale > 0.0):
-        raise ValueError(f"units_scale is {units_scale!r}; expected a positive factor (10 for a file in cm).")
-    reader = vtk.io.vtkXMLPolyDataReader()
-    reader.SetFileName(str(path))
-    reader.Update()
-    poly = reader.GetOutput()
-    lines = poly.GetLines() if poly is not None else None
-    if poly is None or poly.GetNumberOfPoints() == 0 or lines is None or lines.GetNumberOfCells() == 0:
-        raise ValueError(f"{path}: no polylines (is it a VTK XML PolyData of centrelines, e.g. from vmtkcenterlines?)")
-    from vtkmodules.util.numpy_support import vtk_to_numpy
-
-    points = np.array(vtk_to_numpy(poly.GetPoints().GetData()), dtype=float).reshape(-1, 3) * units_scale
-    radius = _array(poly.GetPointData(), RADIUS_ARRAY)
-    if radius is None:
-        raise ValueError(f"{path}: no point array {RADIUS_ARRAY!r} (the centreline radii; vmtkcenterlines writes it), "
-                         f"point arrays: {_names(poly.GetPointData())}.")
-    radius = radius * units_scale
-    cells: list[NDArray[np.int64]] = []
-    ids = vtk.core.vtkIdList()
-    lines.InitTraversal()
-    while lines.GetNextCell(ids):
-        cells.append(np.array([ids.GetId(k) for k in range(ids.GetNumberOfIds())], dtype=np.int64))
-    # cells of vtkPolyData.GetLines() are numbered after the vertices
-    offset = poly.GetNumberOfVerts()
-    cell_data = poly.GetCellData()
-
-    def per_cell(array_name: str) -> NDArray[Any] | None:
-        v = _array(cell_data, array_name)
-        if v is not None:
-            return v[offset:offset + len(cells)]
-        v = _array(poly.GetPointData(), array_name)
-        return None if v is None else np.array([v[c[0]] for c in cells])
-
+    path = _checked_arguments(path, units_scale)
+    poly, lines = _read_polydata(vtk, path)
+    points, radius = _points_and_radii(poly, path, units_scale)
+    cells = _polylines(vtk, lines)
     tube_ids = _array(poly.GetPointData(), TUBE_IDS) if use_tube_ids else None
     stored = _strings(poly.GetFieldData(), TUBE_NAMES)
-    default_name = name if name is not None else (stored[-1] if stored else path.stem)
+    default_name = _vessel_name(name, stored, path)
     entrance = None if entrance is None else np.asarray(entrance, dtype=float) * units_scale
     if tube_ids is not None:
         return _from_tube_ids(cells, points, radius, tube_ids.astype(int), stored, default_name, entrance)
-
-    centreline_ids = per_cell(CENTERLINE_IDS)
-    branch_ids = next((v for v in (per_cell(n) for n in BRANCH_IDS) if v is not None), None)
-    keys: list[int]
-    if centreline_ids is not None:
-        tracts = per_cell(TRACT_IDS)
-        order = np.arange(len(cells)) if tracts is None else tracts
-        keys = sorted({int(v) for v in centreline_ids})
-        paths = []
-        for key in keys:
-            mine = [i for i in range(len(cells)) if int(centreline_ids[i]) == key]
-            mine.sort(key=lambda i: (order[i], i))
-            paths.append(np.concatenate([cells[i] for i in mine]))
-    elif branch_ids is not None or len(cells) == 1:
-        paths = _chains(cells, points, radius) if len(cells) > 1 else cells
-        keys = list(range(len(paths)))
-    else:
-        raise ValueError(f"{path}: {len(cells)} polylines but no cell array {CENTERLINE_IDS!r} (nor "
-                         f"{' or '.join(map(repr, BRANCH_IDS))}) to tell which centreline each belongs to; cell "
-                         f"arrays: {_names(cell_data)}.")
+    keys, paths = _centrelines(path, poly, cells, points, radius)
     paths = [_dedup(p, points) for p in paths]
     lines_xyz = [points[p] for p in paths]
     lines_r = [radius[p] for p in paths]
-    if main is None:
-        first = int(np.argmax([_length(p) for p in lines_xyz]))
-    elif main in keys:
-        first = keys.index(main)
-    else:
-        raise ValueError(f"{path}: main={main!r} is not a centreline id; ids: {keys}.")
-    xyz, r = lines_xyz[first], lines_r[first]
-    if entrance is not None:
-        if np.linalg.norm(xyz[-1] - entrance) < np.linalg.norm(xyz[0] - entrance):
-            xyz, r = xyz[::-1], r[::-1]
-    kept: list[tuple[FloatArray, FloatArray]] = [(xyz, r)]
-    branches = []
-    for k in range(len(paths)):
-        if k == first:
-            continue
-        p, pr = lines_xyz[k], lines_r[k]
-        d = np.full(len(p), np.inf)
-        local = np.zeros(len(p))
-        for q, qr in kept:
-            dq, rq = _distance_to(p, q, qr)
-            better = dq - rq < d - local
-            d, local = np.where(better, dq, d), np.where(better, rq, local)
-        outside = np.flatnonzero(d >= local)
-        if not outside.size:
-            continue  # inside the tree all along: adds nothing
-        leave = int(outside[0])
-        if leave == 0:
-            raise ValueError(f"{path}: centreline {keys[k]} starts at {p[0].tolist()}, outside the lumen of the "
-                             "centrelines before it; VMTK centrelines share their inlet.")
-        start = leave - 1
-        while start > 0 and d[start] > 0.75 * local[start]:
-            start -= 1
-        bp, br = p[start:], pr[start:]
-        kept.append((bp, br))
-        branches.append(Branch3D(bp, _clip(bp, br), f"centerline_{keys[k]}"))
+    first = _main_index(path, lines_xyz, keys, main)
+    xyz, r = _oriented(lines_xyz[first], lines_r[first], entrance)
+    others = [(keys[k], lines_xyz[k], lines_r[k]) for k in range(len(paths)) if k != first]
+    branches = _branches(path, (xyz, r), others)
     try:
         return Vessel3D.from_centreline(xyz, _clip(xyz, r), branches, name=default_name)
     except ValueError as error:
@@ -288,6 +206,151 @@ def read_centerlines(path: str | os.PathLike[str], *, name: str | None = None, e
                          f"{', the longest' if main is None else ''}; branches: centrelines "
                          f"{[b.name.removeprefix('centerline_') for b in branches]}; choose another main "
                          "centreline with main=...)") from None
+
+
+def _checked_arguments(path: str | os.PathLike[str], units_scale: float) -> Path:
+    """The file's path, checked to exist, and ``units_scale`` checked to be positive, before vtk reads anything."""
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: no such VMTK centreline file.")
+    if not (np.isfinite(units_scale) and units_scale > 0.0):
+        raise ValueError(f"units_scale is {units_scale!r}; expected a positive factor (10 for a file in cm).")
+    return path
+
+
+def _vessel_name(name: str | None, stored: list[str], path: Path) -> str:
+    """The caller's name, else the one :func:`write_centerlines` stored (last of its tube names), else the stem."""
+    return name if name is not None else (stored[-1] if stored else path.stem)
+
+
+def _read_polydata(vtk: Any, path: Path) -> tuple[Any, Any]:
+    """The file's PolyData and its polylines; a ValueError when it has no points or no polylines."""
+    reader = vtk.io.vtkXMLPolyDataReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    poly = reader.GetOutput()
+    lines = poly.GetLines() if poly is not None else None
+    if poly is None or poly.GetNumberOfPoints() == 0 or lines is None or lines.GetNumberOfCells() == 0:
+        raise ValueError(f"{path}: no polylines (is it a VTK XML PolyData of centrelines, e.g. from vmtkcenterlines?)")
+    return poly, lines
+
+
+def _points_and_radii(poly: Any, path: Path, units_scale: float) -> tuple[FloatArray, FloatArray]:
+    """The points (n, 3) and their radii (``MaximumInscribedSphereRadius``, required), times ``units_scale``."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    points = np.array(vtk_to_numpy(poly.GetPoints().GetData()), dtype=float).reshape(-1, 3) * units_scale
+    radius = _array(poly.GetPointData(), RADIUS_ARRAY)
+    if radius is None:
+        raise ValueError(f"{path}: no point array {RADIUS_ARRAY!r} (the centreline radii; vmtkcenterlines writes it), "
+                         f"point arrays: {_names(poly.GetPointData())}.")
+    return points, radius * units_scale
+
+
+def _polylines(vtk: Any, lines: Any) -> list[NDArray[np.int64]]:
+    """The point ids of each polyline, in file order."""
+    cells: list[NDArray[np.int64]] = []
+    ids = vtk.core.vtkIdList()
+    lines.InitTraversal()
+    while lines.GetNextCell(ids):
+        cells.append(np.array([ids.GetId(k) for k in range(ids.GetNumberOfIds())], dtype=np.int64))
+    return cells
+
+
+def _per_cell(poly: Any, cells: list[NDArray[np.int64]], array_name: str) -> NDArray[Any] | None:
+    """One value per polyline: the cell array's, else the point array's at its first point (or None)."""
+    v = _array(poly.GetCellData(), array_name)
+    if v is not None:
+        offset = poly.GetNumberOfVerts()  # cells of vtkPolyData.GetLines() are numbered after the vertices
+        return v[offset:offset + len(cells)]
+    v = _array(poly.GetPointData(), array_name)
+    return None if v is None else np.array([v[c[0]] for c in cells])
+
+
+def _centrelines(path: Path, poly: Any, cells: list[NDArray[np.int64]], points: FloatArray,
+                 radius: FloatArray) -> tuple[list[int], list[NDArray[np.int64]]]:
+    """The centrelines' keys and point ids, by ``CenterlineIds`` or ``BranchId(s)`` (module docstring, 1)."""
+    centreline_ids = _per_cell(poly, cells, CENTERLINE_IDS)
+    if centreline_ids is not None:
+        return _grouped(cells, centreline_ids, _per_cell(poly, cells, TRACT_IDS))
+    branch_ids = next((v for v in (_per_cell(poly, cells, n) for n in BRANCH_IDS) if v is not None), None)
+    if branch_ids is None and len(cells) != 1:
+        raise ValueError(f"{path}: {len(cells)} polylines but no cell array {CENTERLINE_IDS!r} (nor "
+                         f"{' or '.join(map(repr, BRANCH_IDS))}) to tell which centreline each belongs to; cell "
+                         f"arrays: {_names(poly.GetCellData())}.")
+    paths = _chains(cells, points, radius) if len(cells) > 1 else cells
+    return list(range(len(paths))), paths
+
+
+def _grouped(cells: list[NDArray[np.int64]], centreline_ids: NDArray[Any],
+             tracts: NDArray[Any] | None) -> tuple[list[int], list[NDArray[np.int64]]]:
+    """Per ``CenterlineIds`` value (sorted): its cells joined in ``TractIds`` order, else in file order."""
+    order = np.arange(len(cells)) if tracts is None else tracts
+    keys = sorted({int(v) for v in centreline_ids})
+    paths = []
+    for key in keys:
+        mine = [i for i in range(len(cells)) if int(centreline_ids[i]) == key]
+        mine.sort(key=lambda i: (order[i], i))
+        paths.append(np.concatenate([cells[i] for i in mine]))
+    return keys, paths
+
+
+def _main_index(path: Path, lines_xyz: list[FloatArray], keys: list[int], main: int | None) -> int:
+    """Which centreline is the main vessel: the longest (arc length), or the one whose key is ``main``."""
+    if main is None:
+        return int(np.argmax([_length(p) for p in lines_xyz]))
+    if main in keys:
+        return keys.index(main)
+    raise ValueError(f"{path}: main={main!r} is not a centreline id; ids: {keys}.")
+
+
+def _oriented(xyz: FloatArray, r: FloatArray, entrance: FloatArray | None) -> tuple[FloatArray, FloatArray]:
+    """The centreline and its radii reversed when its last point is nearer ``entrance`` than its first."""
+    if entrance is not None and np.linalg.norm(xyz[-1] - entrance) < np.linalg.norm(xyz[0] - entrance):
+        return xyz[::-1], r[::-1]
+    return xyz, r
+
+
+def _branches(path: Path, main: tuple[FloatArray, FloatArray],
+              others: list[tuple[int, FloatArray, FloatArray]]) -> list[Branch3D]:
+    """The other centrelines as branches from where each leaves the tree built so far (module docstring, 3)."""
+    kept = [main]
+    branches = []
+    for key, p, pr in others:
+        start = _branch_start(path, key, p, kept)
+        if start is None:
+            continue  # inside the tree all along: adds nothing
+        bp, br = p[start:], pr[start:]
+        kept.append((bp, br))
+        branches.append(Branch3D(bp, _clip(bp, br), f"centerline_{key}"))
+    return branches
+
+
+def _branch_start(path: Path, key: int, p: FloatArray, kept: list[tuple[FloatArray, FloatArray]]) -> int | None:
+    """Where ``p`` starts as a branch, inside its parent's lumen (module docstring, 3); None if it never leaves."""
+    d, local = _distance_to_tree(p, kept)
+    outside = np.flatnonzero(d >= local)
+    if not outside.size:
+        return None
+    leave = int(outside[0])
+    if leave == 0:
+        raise ValueError(f"{path}: centreline {key} starts at {p[0].tolist()}, outside the lumen of the "
+                         "centrelines before it; VMTK centrelines share their inlet.")
+    start = leave - 1
+    while start > 0 and d[start] > 0.75 * local[start]:
+        start -= 1
+    return start
+
+
+def _distance_to_tree(p: FloatArray, kept: list[tuple[FloatArray, FloatArray]]) -> tuple[FloatArray, FloatArray]:
+    """Per point of ``p``: distance to, and local radius of, the kept centreline it is deepest inside."""
+    d = np.full(len(p), np.inf)
+    local = np.zeros(len(p))
+    for q, qr in kept:
+        dq, rq = _distance_to(p, q, qr)
+        better = dq - rq < d - local
+        d, local = np.where(better, dq, d), np.where(better, rq, local)
+    return d, local
 
 
 def _clip(points: FloatArray, radii: FloatArray) -> FloatArray:
@@ -309,9 +372,7 @@ def _from_tube_ids(cells: list[NDArray[np.int64]], points: FloatArray, radius: F
                 best[k] = run
     order = sorted(best)
     main = best[order[0]]
-    xyz, r = points[main], radius[main]
-    if entrance is not None and np.linalg.norm(xyz[-1] - entrance) < np.linalg.norm(xyz[0] - entrance):
-        xyz, r = xyz[::-1], r[::-1]
+    xyz, r = _oriented(points[main], radius[main], entrance)
     branches = [Branch3D(points[best[k]], radius[best[k]], names[k] if k < len(names) - 1 else "") for k in order[1:]]
     return Vessel3D.from_centreline(xyz, r, branches, name=name)
 
@@ -327,66 +388,6 @@ def _strings(data: Any, array_name: str) -> list[str]:
     return [arr.GetValue(i) for i in range(arr.GetNumberOfValues())]
 
 
-# -- writing -----------------------------------------------------------------------------------------------------
-def _tube_paths(vessel: Vessel3D) -> list[tuple[list[int], list[int]]]:
-    """Per tube: (tube index, sample index) pairs from the entrance to its last sample (see the module docstring)."""
-    lines = [np.array(vessel.centreline)] + [np.array(b.centreline) for b in vessel.branches]
-    paths: list[list[tuple[int, int]]] = [[(0, i) for i in range(len(lines[0]))]]
-    for k in range(1, len(lines)):
-        start = lines[k][:1]
-        g = [float(t.rows(start, np.zeros(1))[0][0]) for t in vessel.tubes[:k]]
-        parent = int(np.argmax(g))
-        j = int(np.argmin(np.linalg.norm(lines[parent] - start, axis=1)))
-        head = [pair for pair in paths[parent] if pair[0] != parent or pair[1] <= j]
-        if np.array_equal(lines[parent][j], start[0]):
-            head = head[:-1]
-        paths.append(head + [(k, i) for i in range(len(lines[k]))])
-    return [([t for t, _ in p], [i for _, i in p]) for p in paths]
-
-
-def write_centerlines(vessel: Vessel3D, path: str | os.PathLike[str]) -> Path:
-    """Save ``vessel`` as a VMTK centreline file (``.vtp``, see the module docstring); returns the path."""
-    vtk = _vtk()
-    if not isinstance(vessel, Vessel3D):
-        raise TypeError(f"vessel is {type(vessel).__name__}; expected a guidewire.vessel3d.Vessel3D.")
-    lines = [np.array(vessel.centreline)] + [np.array(b.centreline) for b in vessel.branches]
-    radii = [np.broadcast_to(np.asarray(vessel.radius, dtype=float), (len(lines[0]),))]
-    radii += [np.broadcast_to(np.asarray(b.radius, dtype=float), (len(b.centreline),)) for b in vessel.branches]
-    pts = vtk.core.vtkPoints()
-    pts.SetDataTypeToDouble()
-    rad = vtk.core.vtkDoubleArray()
-    rad.SetName(RADIUS_ARRAY)
-    tube = vtk.core.vtkIntArray()
-    tube.SetName(TUBE_IDS)
-    cid = vtk.core.vtkIntArray()
-    cid.SetName(CENTERLINE_IDS)
-    cells = vtk.data.vtkCellArray()
-    for c, (tubes, samples) in enumerate(_tube_paths(vessel)):
-        cells.InsertNextCell(len(tubes))
-        for t, i in zip(tubes, samples, strict=True):
-            cells.InsertCellPoint(pts.InsertNextPoint(*lines[t][i]))
-            rad.InsertNextValue(float(radii[t][i]))
-            tube.InsertNextValue(t)
-        cid.InsertNextValue(c)
-    names = vtk.core.vtkStringArray()
-    names.SetName(TUBE_NAMES)
-    for label in ["", *(b.name for b in vessel.branches), vessel.name]:
-        names.InsertNextValue(label)
-    poly = vtk.data.vtkPolyData()
-    poly.SetPoints(pts)
-    poly.SetLines(cells)
-    poly.GetPointData().AddArray(rad)
-    poly.GetPointData().AddArray(tube)
-    poly.GetCellData().AddArray(cid)
-    poly.GetFieldData().AddArray(names)
-    writer = vtk.io.vtkXMLPolyDataWriter()
-    out = Path(path)
-    writer.SetFileName(str(out))
-    writer.SetInputData(poly)
-    writer.SetDataModeToBinary()
-    if not writer.Write():
-        raise OSError(f"{out}: vtk could not write the file.")
-    return out
-
+from .vtp_write import write_centerlines  # noqa: E402  (the writer imports this module's array names)
 
 __all__ = ["EXAMPLE_VTP", "read_centerlines", "write_centerlines"]

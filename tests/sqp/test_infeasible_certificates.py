@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import qpsolvers
 
-import sqp.subproblem as subproblem
+import sqp.qp_call as qp_call
 
 pytest.importorskip("clarabel")
 
@@ -20,15 +20,15 @@ def _infeasible_qp():
 
 def test_clarabel_primal_infeasible_stops_the_fallbacks(monkeypatch):
     calls = []
-    solve = subproblem._backends.solve_problem
+    solve = qp_call._backends.solve_problem
 
     def recorded(problem, solver, **kw):
         calls.append(solver)
         return solve(problem, solver=solver, **kw)
 
-    monkeypatch.setattr(subproblem._backends, "solve_problem", recorded)
+    monkeypatch.setattr(qp_call._backends, "solve_problem", recorded)
     P, q, G, h, E, e = _infeasible_qp()
-    sol, reason = subproblem._solve((("clarabel", {}), ("quadprog", {})), P, q, G, h, E, e, None, None, None, 1.0)
+    sol, reason = qp_call.solve_qp((("clarabel", {}), ("quadprog", {})), P, q, G, h, E, e, None, None, None, 1.0)
     assert sol is None and reason == "QP infeasible"
     assert calls == ["clarabel"]  # no retry with looser tolerances, no next backend
 
@@ -42,7 +42,7 @@ def test_only_a_primal_infeasibility_certificate_counts(status, certified):
     P, q, G, h, E, e = _infeasible_qp()
     sol = qpsolvers.Solution(qpsolvers.Problem(P, q, G, h))
     sol.extras = {"status": getattr(clarabel.SolverStatus, status)}
-    assert subproblem._declared_infeasible(sol) is certified
+    assert qp_call._declared_infeasible(sol) is certified
 
 
 @pytest.mark.parametrize("status, certified", [("primal infeasible", True), ("dual infeasible", False),
@@ -56,4 +56,4 @@ def test_osqp_style_info_status(status, certified):
     P, q, G, h, E, e = _infeasible_qp()
     sol = qpsolvers.Solution(qpsolvers.Problem(P, q, G, h))
     sol.extras = {"info": info}
-    assert subproblem._declared_infeasible(sol) is certified
+    assert qp_call._declared_infeasible(sol) is certified

@@ -5,7 +5,7 @@ import pytest
 import qpsolvers
 
 from sqp.backends import solve_problem
-from sqp.subproblem import _residuals
+from sqp.qp_call import _residuals
 
 
 def _qp(seed, ineq, eq, box):

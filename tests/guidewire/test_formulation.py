@@ -231,8 +231,8 @@ def test_tridiagonal_energy_hessian_is_two_dt_c_d_exactly(scheme):
     from guidewire.energy import _general_hessian
     from guidewire.program.model import build_model
 
-    for path in sorted(p for p in (Path(guidewire.__file__).parent / "scenes").rglob("*.toml")
-                if "vessels3d" not in p.parts)  # (the planar scenes: 3-D ones are tests/guidewire3d's):
+    planar = [p for p in (Path(guidewire.__file__).parent / "scenes").rglob("*.toml") if "vessels3d" not in p.parts]
+    for path in sorted(planar):  # (3-D scenes are tests/guidewire3d's)
         scene = guidewire.load_scene(path).with_scheme(scheme)
         energy = build_model(scene.with_bars(max(scene.wire.bars, 12))).energy
         fast, general = energy.hessian(), _general_hessian(energy.matrix, energy.weight)

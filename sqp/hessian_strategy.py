@@ -14,7 +14,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from sqp.hessian import convexify, damped_bfgs_update, initial_scaling
+from sqp.hessian import convexify, damped_bfgs_update, initial_scaling, shifted_augmented
 from sqp.iterate import Derivatives, Evaluator, State
 from sqp.kkt import inf_norm
 from sqp.multipliers import al_rows, equality_rows, newton_multipliers, nonlinear_lagrangian_gradient
@@ -124,22 +124,18 @@ class ConvexifiedExact:
 
     def model(self, ev: Evaluator, st: State) -> Any:
         lam = st.qp.lam_nl if st.qp is not None else self.lam0
-        self.rows = al_rows(self.problem, lam)
+        self.rows = al_rows(self.problem, lam) if self.inequalities else self.problem.nonlinear.eq
         W = ev.lagrangian_hessian(st.pt.x, lam)
         if ev.hessian_nonfinite is not None:
             return None
-        shift, weight = self.shift, self.weight
-        if not self.inequalities and self.rows.size > self.problem.nonlinear.eq.size:
-            # the equalities alone first; the active inequalities too only when W is not positive definite on the
-            # equalities' null space (then the identity shift would be the alternative)
-            equalities = self.problem.nonlinear.eq
-            B, self.shift, self.weight = convexify(W, shift, equality_rows(self.problem, st.der.J, equalities),
-                                                   weight, self.definite, self.problem.equality_only)
-            if self.shift == 0.0:
-                self.rows = equalities
-                return self._keep(B)
-        B, self.shift, self.weight = convexify(W, shift, equality_rows(self.problem, st.der.J, self.rows),
-                                               weight, self.definite, self.problem.equality_only)
+        C = equality_rows(self.problem, st.der.J, self.rows)
+        B, self.shift, self.weight = convexify(W, self.shift, C, self.weight, self.definite,
+                                               self.problem.equality_only)
+        if not self.inequalities and self.shift > 0.0 and C is not None:
+            # W is not positive definite on the equalities' null space: the shift goes on top of the
+            # augmented-Lagrangian term, so that it need only cover that null space (W alone can be far more
+            # indefinite across the rows: a compressed wire's closure forces)
+            B, self.shift, self.weight = shifted_augmented(W, C, self.shift)
         return self._keep(B)
 
     def _keep(self, B: Any) -> Any:

@@ -79,11 +79,12 @@ class Options:
     convexify_inequalities : bool
         With exact Hessians, whether the augmented-Lagrangian term that makes the model Hessian positive definite
         (:func:`sqp.hessian.convexify`) also covers the nonlinear inequalities active at the last step (True, the
-        default) or only the equalities (False). On a row the QP keeps active the term leaves the step unchanged; on
-        a row the QP releases it penalises leaving, so when the active set moves along many rows at every iteration
-        (a wire sliding along a vessel wall: its contact nodes change from step to step) each step can release a row
-        only a little and convergence turns linear. A 3-D wire pushed through a helix: 300+ iterations per step with
-        True, 5-7 with False (the closure equalities alone make the Hessian positive definite there).
+        default) or only the equalities (False; where ``W`` is not positive definite on their null space an identity
+        shift is added on top of the term, :func:`sqp.hessian.shifted_augmented`). On a row the QP keeps active the
+        term leaves the step unchanged; on a row the QP releases it penalises leaving, so when the active set moves
+        along many rows at every iteration (a wire sliding along a vessel wall: its contact nodes change from step
+        to step) each step can release a row only a little and convergence turns linear. A 3-D wire pushed through
+        a helix: 300+ iterations per step with True, 3-7 with False.
     restoration : bool
         After an INFEASIBLE end with nonlinear rows, minimise the violation from the last point
         (:mod:`sqp.restoration`) and report that point, or solve again from it when its violation is within

@@ -1,5 +1,4 @@
-"""A discrete rod in 3D: node positions and per-bar material angles; bending at the joints and twist between bars."""
-
-from guidewire.rod.energy import RodEnergy
-
-__all__ = ["RodEnergy"]
+"""The framed 3-D rod: per-bar material frames as quaternions (:mod:`~guidewire.rod.quaternion`), bending and twist
+at the joints (:mod:`~guidewire.rod.strain`, :mod:`~guidewire.rod.strain_energy`) with exact derivatives through
+second-order jets (:mod:`~guidewire.rod.jet`), the chain's nodes (:mod:`~guidewire.rod.kinematics`) and the twist
+material (:mod:`~guidewire.rod.material`)."""

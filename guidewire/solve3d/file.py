@@ -48,6 +48,7 @@ from ..scene.file import checked_table, read_toml, scene_from_dict, wire_from_di
 from ..scene.scene import Scene
 from ..vessel3d import Branch3D, Vessel3D
 from ..vessel3d import shapes as vessel_shapes
+from ..vessel3d.vtp import read_centerlines  # (vtk, an optional extra, is imported only when a file is read)
 from .scene import Base3D, Scene3D
 
 TOP_KEYS = {"name", "notes", "wire", "base", "vessel", "tip_force"}
@@ -86,8 +87,6 @@ def vessel_from_dict(data: Any, folder: Path) -> Vessel3D:
     if "shape" in table:
         return _shape(table)
     if "file" in table:
-        from ..vessel3d.vtp import read_centerlines  # (imports vtk, an optional extra)
-
         path = Path(str(table["file"]))
         return read_centerlines(path if path.is_absolute() else folder / path, name=name or None)
     checked_table(table, "vessel", VESSEL_KEYS, ("centreline", "radius"))

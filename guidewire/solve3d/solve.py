@@ -19,6 +19,7 @@ import sqp
 
 from ..rod import kinematics
 from ..rod import quaternion as quat
+from ..rod.jet import Jet
 from ..rod.strain import joint_strain
 from .program import Program, bar_layout, node_radii
 from .result import ContactForce3D, Solution3D, clamp_moment, half_joint_moment
@@ -179,8 +180,6 @@ def external_forces(program: Program, lam: list[Any], nodes: FloatArray, nodes_v
 
 def joint_twists(base: FloatArray, q: FloatArray) -> FloatArray:
     """Twist ``τ`` (rad) of every joint: the clamp's (``q_B`` to bar 1), then between consecutive bars."""
-    from ..rod.jet import Jet
-
     left = np.vstack((base, q[:-1]))
     qa = [Jet.constant(left[:, c], 1) for c in range(4)]
     qb = [Jet.constant(q[:, c], 1) for c in range(4)]

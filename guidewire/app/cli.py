@@ -26,7 +26,7 @@ import numpy as np
 from ..solve3d.file import load_scene
 from ..solve3d.scene import Scene3D
 from .cli3d import insert_3d, solve_3d
-from .parser import BadInput, build_parser, check_output_dir, check_size, qp_solver_choice
+from .parser import BadInput, build_parser, check_output_dir, check_size, push_lengths, qp_solver_choice
 
 if TYPE_CHECKING:
     from ..scene.scene import Scene
@@ -99,12 +99,7 @@ def _planar_lengths(args: argparse.Namespace, scene: Scene) -> tuple[float, np.n
     if args.rotate is not None or args.schedule is not None or args.html is not None:
         raise BadInput(f"{args.scene} is a planar scene: --rotate, --schedule and --html need a 3-D scene (a vessel "
                        "centreline with three columns, a shipped 3-D shape or a .vtp file)")
-    if args.to is None or args.step is None:
-        raise BadInput("give --to and --step (mm)")
-    first = scene.wire.length if args.start is None else args.start
-    if args.to < first:
-        raise BadInput(f"--to {args.to:g} is shorter than the first inserted length {first:g} mm")
-    lengths = np.arange(first, args.to + 0.5 * args.step, args.step)
+    first, lengths = push_lengths(args, scene.wire.length, "give --to and --step (mm)")
     for flag in ("json", "plot", "gif"):
         check_output_dir(getattr(args, flag), f"--{flag}")
     check_size(args, lengths, scene.wire.bars / scene.wire.length)

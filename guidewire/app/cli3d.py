@@ -17,7 +17,7 @@ from ..solve3d.insert import insert3d
 from ..solve3d.result import Solution3D
 from ..solve3d.scene import Scene3D
 from ..solve3d.solve import solve3d
-from .parser import BadInput, check_output_dir, check_size, qp_solver_choice
+from .parser import BadInput, check_output_dir, check_size, push_lengths, qp_solver_choice
 
 EXIT_OK, EXIT_NOT_CONVERGED = 0, 1
 
@@ -88,12 +88,7 @@ def _steps(args: argparse.Namespace, scene: Scene3D) -> tuple[np.ndarray, np.nda
         if args.to is not None or args.step is not None or args.rotate is not None:
             raise BadInput("--schedule gives every step: leave out --to, --step and --rotate")
         return read_schedule(args.schedule)
-    if args.to is None or args.step is None:
-        raise BadInput("give --to and --step (mm), or --schedule FILE")
-    first = scene.wire.length if args.start is None else args.start
-    if args.to < first:
-        raise BadInput(f"--to {args.to:g} is shorter than the first inserted length {first:g} mm")
-    lengths = np.arange(first, args.to + 0.5 * args.step, args.step)
+    first, lengths = push_lengths(args, scene.wire.length, "give --to and --step (mm), or --schedule FILE")
     rate = 0.0 if args.rotate is None else math.radians(args.rotate)
     return lengths, scene.base.rotation + rate * (lengths - first)
 

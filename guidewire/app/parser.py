@@ -188,3 +188,14 @@ def check_size(args: argparse.Namespace, lengths: np.ndarray, bars_per_mm: float
             raise BadInput(f"--json would hold about {megabytes:.0f} MB ({lengths.size} steps of up to "
                            f"{lengths[-1] * bars_per_mm:.0f} bars); give a larger --step, fewer bars per mm, or "
                            "--yes to write it")
+
+
+def push_lengths(args: argparse.Namespace, wire_length: float, missing: str) -> tuple[float, np.ndarray]:
+    """``insert``'s first inserted length (``--from``, else the scene's) and every step's from ``--to``/``--step``
+    (mm); ``missing`` is the message when either is not given."""
+    if args.to is None or args.step is None:
+        raise BadInput(missing)
+    first = wire_length if args.start is None else args.start
+    if args.to < first:
+        raise BadInput(f"--to {args.to:g} is shorter than the first inserted length {first:g} mm")
+    return first, np.arange(first, args.to + 0.5 * args.step, args.step)

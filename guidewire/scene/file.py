@@ -161,17 +161,24 @@ def _vessel(data: Any) -> Vessel:
             raise ValueError("[vessel] walls must be two polylines: walls = [[[x, y], ...], [[x, y], ...]] (mm).")
         return Vessel.from_walls(walls[0], walls[1])
     checked_table(table, "vessel", _VESSEL_KEYS, ("centreline", "radius"))
-    branch_list = table.get("branch", [])
-    if not isinstance(branch_list, list):
+    branches = branch_entries(table, _BRANCH_KEYS, lambda entry: Branch(entry["centreline"], entry["radius"]))
+    return Vessel.from_centreline(table["centreline"], table["radius"], branches)
+
+
+def branch_entries(table: Mapping[str, Any], keys: set[str], make: Any) -> list[Any]:
+    """The ``[[vessel.branch]]`` list of a ``[vessel]`` table, each entry checked against ``keys`` and built by
+    ``make(entry)``; a bad entry's message says which (``[[vessel.branch]] number 2: …``)."""
+    items = table.get("branch", [])
+    if not isinstance(items, list):
         raise ValueError("vessel.branch must be an array of tables: write [[vessel.branch]] (double brackets).")
-    branches = []
-    for i, item in enumerate(branch_list):
-        entry = checked_table(item, f"vessel.branch {i + 1}", _BRANCH_KEYS, ("centreline", "radius"))
+    out = []
+    for i, item in enumerate(items):
+        entry = checked_table(item, f"vessel.branch {i + 1}", keys, ("centreline", "radius"))
         try:
-            branches.append(Branch(entry["centreline"], entry["radius"]))
+            out.append(make(entry))
         except (TypeError, ValueError) as exc:
             raise type(exc)(f"[[vessel.branch]] number {i + 1}: {exc}") from None
-    return Vessel.from_centreline(table["centreline"], table["radius"], branches)
+    return out
 
 
 def _item(cls: Any, data: Any, where: str, allowed: set[str], required: tuple[str, ...]) -> Any:

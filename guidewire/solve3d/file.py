@@ -44,7 +44,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
-from ..scene.file import checked_table, read_toml, scene_from_dict, wire_from_dict
+from ..scene.file import branch_entries, checked_table, read_toml, scene_from_dict, wire_from_dict
 from ..scene.scene import Scene
 from ..vessel3d import Branch3D, Vessel3D
 from ..vessel3d import shapes as vessel_shapes
@@ -90,16 +90,8 @@ def vessel_from_dict(data: Any, folder: Path) -> Vessel3D:
         path = Path(str(table["file"]))
         return read_centerlines(path if path.is_absolute() else folder / path, name=name or None)
     checked_table(table, "vessel", VESSEL_KEYS, ("centreline", "radius"))
-    items = table.get("branch", [])
-    if not isinstance(items, list):
-        raise ValueError("vessel.branch must be an array of tables: write [[vessel.branch]] (double brackets).")
-    branches = []
-    for i, item in enumerate(items):
-        entry = checked_table(item, f"vessel.branch {i + 1}", BRANCH_KEYS, ("centreline", "radius"))
-        try:
-            branches.append(Branch3D(entry["centreline"], entry["radius"], str(entry.get("name", ""))))
-        except (TypeError, ValueError) as exc:
-            raise type(exc)(f"[[vessel.branch]] number {i + 1}: {exc}") from None
+    branches = branch_entries(table, BRANCH_KEYS, lambda entry: Branch3D(entry["centreline"], entry["radius"],
+                                                                          str(entry.get("name", ""))))
     return Vessel3D.from_centreline(table["centreline"], table["radius"], branches, name=name)
 
 

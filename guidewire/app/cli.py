@@ -66,6 +66,8 @@ def _load(path: Path) -> Scene:
         raise BadInput(f"{path}: {exc.strerror}") from None
     except ValueError as exc:  # the message already names the file and the field
         raise BadInput(str(exc)) from None
+    except ImportError as exc:  # an optional extra the file needs (vtk for a .vtp vessel): the message says which
+        raise BadInput(f"{path}: {exc}") from None
 
 
 def _insert(args: argparse.Namespace) -> int:

@@ -94,3 +94,13 @@ def test_solve_writes_an_interactive_html_view(tmp_path, capsys):
     text = page.read_text()
     assert "plotly" in text.lower() and "s_bend_3d" in text
     assert "converged" in capsys.readouterr().out
+
+
+def test_a_vtp_scene_without_vtk_exits_2_with_the_install_command(monkeypatch, capsys):
+    """A new user without the [vtk] extra gets one line saying how to install it, not a traceback."""
+    import sys
+
+    monkeypatch.setitem(sys.modules, "vtkmodules", None)
+    code = main(["solve", str(SCENES / "vessels3d" / "arch_from_vtp.toml")])
+    assert code == 2
+    assert "pip install" in capsys.readouterr().err

@@ -14,6 +14,12 @@ answer and solves again only when the model and the true distance disagree.
 ``sag_k = l² κ⁺ / 8`` keeps the chord of a bar of length ``l`` from cutting through a wall that bulges into the lumen
 (curvature ``κ⁺ > 0``: the inner wall of a bend; 43 µm for ``l = 1`` mm, ``ρ = 2.9`` mm).
 
+A node in a tube lies between two walls, and a row on the nearer one alone does not see the other: on a start along
+the centreline, where either wall may be the nearer, the nodes of a bend whose row is on the outer wall cut across
+the lumen and through the inner wall in one round (measured on the S-bend of ``scenes/vessels/s_bend_tight.toml`` at
+69 mm: 26 nodes up to 9 mm outside after the first round, the rounds never recovered). So a node also gets a row on
+the wall across the lumen (:meth:`guidewire.vessel.Vessel.far_side`) when that wall is near too, by the same rule.
+
 Rows exist only for the nodes near the wall (a working set: within :data:`NEAR_BARS` bar lengths, or
 :data:`NEAR_FRACTION` of their own distance to the wall, of touching it), and every node is checked against the
 true lumen before a shape is returned (:meth:`Lumen.violation`). Multiplier ``λ_k ≥ 0``: the wall's normal force on
@@ -26,6 +32,7 @@ from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
+from numpy.typing import NDArray
 
 from .base import Block, FloatArray, IntArray, Loads, NodeRows, WorkingSet, grown_by_neighbours
 
@@ -67,6 +74,12 @@ def _needed(model: Model, curvature: FloatArray, nodes: IntArray) -> FloatArray:
     return 0.5 * node_diameters(model, nodes) + bar**2 * np.maximum(curvature, 0.0) / 8.0
 
 
+def _band(model: Model, distance: FloatArray) -> FloatArray:
+    """How near touching a wall a node gets a row (mm of slack): :data:`NEAR_BARS` bar lengths, or
+    :data:`NEAR_FRACTION` of ``distance``, the node's distance to its nearest wall, if more."""
+    return np.maximum(NEAR_BARS * float(np.max(model.chain.lengths)), NEAR_FRACTION * np.maximum(distance, 0.0))
+
+
 @dataclass(frozen=True)
 class Lumen(Block):
     """Rows keeping the nodes of the working set inside ``scene.vessel`` (see the module docstring).
@@ -83,6 +96,9 @@ class Lumen(Block):
         Wall curvature there (1/mm, > 0 where it bulges into the lumen).
     needed : ndarray, shape (rows,)
         Clearance each node needs (mm): ``d_k/2`` (its section's diameter) plus the chord sag.
+    across : ndarray of bool, shape (rows,)
+        Rows on the wall across the lumen (:meth:`Vessel.far_side`); the others are on the nearest wall. ``nodes``
+        holds a node once or twice (nearest-wall rows first).
     """
 
     kind: ClassVar[str] = "lumen"
@@ -91,6 +107,7 @@ class Lumen(Block):
     depths: FloatArray = field(default_factory=lambda: np.zeros(0), compare=False)
     curvatures: FloatArray = field(default_factory=lambda: np.zeros(0), compare=False)
     needed: FloatArray = field(default_factory=lambda: np.zeros(0), compare=False)
+    across: NDArray[np.bool_] = field(default_factory=lambda: np.zeros(0, dtype=bool), compare=False)
 
     @classmethod
     def build(cls, model: Model, working_set: WorkingSet = None) -> list[Block]:
@@ -111,17 +128,32 @@ class Lumen(Block):
         """Nodes 1..n near touching the wall (at least the closest one)."""
         c = model.scene.vessel.clearance(points[1:])
         slack = c.distance - _needed(model, c.curvature, np.arange(1, model.n + 1))
-        band = np.maximum(NEAR_BARS * float(np.max(model.chain.lengths)), NEAR_FRACTION * np.maximum(c.distance, 0.0))
-        near = np.flatnonzero(slack <= band) + 1
+        near = np.flatnonzero(slack <= _band(model, c.distance)) + 1
         return near if near.size else np.array([int(np.argmin(slack)) + 1])
 
     @classmethod
     def _modelled(cls, model: Model, nodes: IntArray, points: FloatArray) -> Lumen:
-        full = model.scene.vessel.clearance(points[1:])  # every node, shared with the working-set choice
-        c = type(full)(**{name: getattr(full, name)[nodes - 1] for name in ("distance", "normal", "boundary",
-                                                                               "curvature")})
-        return cls((0,), np.asarray(nodes, dtype=int), centres=points[nodes].copy(), normals=c.normal,
-                   depths=c.distance, curvatures=c.curvature, needed=_needed(model, c.curvature, nodes))
+        """Rows for ``nodes`` (sorted, unique) modelled at ``points``: each on its nearest wall, and on the wall
+        across the lumen where that one is near too (:func:`_band`, with the nearest wall's distance)."""
+        vessel = model.scene.vessel
+        full = vessel.clearance(points[1:])  # every node, shared with the working-set choice
+        nodes = np.asarray(nodes, dtype=int)
+        far = vessel.far_side(points[nodes])
+        far_needed = _needed(model, far.curvature, nodes)
+        keep = np.isfinite(far.distance) & (far.distance - far_needed <= _band(model, full.distance[nodes - 1]))
+        names = ("distance", "normal", "curvature")
+        near = {name: getattr(full, name)[nodes - 1] for name in names}
+        c = {name: np.concatenate((near[name], getattr(far, name)[keep])) for name in names}
+        rows = np.concatenate((nodes, nodes[keep]))
+        return cls((0,), rows, centres=points[rows].copy(), normals=c["normal"], depths=c["distance"],
+                   curvatures=c["curvature"], needed=np.concatenate((_needed(model, near["curvature"], nodes),
+                                                                     far_needed[keep])),
+                   across=np.repeat([False, True], [nodes.size, int(keep.sum())]))
+
+    @property
+    def row_keys(self) -> IntArray:
+        """``2 k`` for node ``k``'s row on its nearest wall, ``2 k + 1`` for its row across the lumen."""
+        return 2 * self.nodes + self.across.astype(int)
 
     def rows(self, model: Model) -> NodeRows:
         tangent = np.column_stack((-self.normals[:, 1], self.normals[:, 0]))
@@ -175,7 +207,7 @@ class Lumen(Block):
         stale = touching & (np.abs(slack[self.nodes - 1] - model_slack) > PLANE_TOLERANCE * tolerance)
         if not violated.size and not np.any(stale):
             return None
-        nodes = grown_by_neighbours(self.nodes, violated, model.n)
+        nodes = grown_by_neighbours(np.unique(self.nodes), violated, model.n)
         return replace(self._modelled(model, nodes, points), index=self.index)
 
     def contact_normals(self, scene: Any) -> FloatArray:

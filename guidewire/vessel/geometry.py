@@ -34,6 +34,11 @@ Polyline = tuple[tuple[float, ...], ...]
 
 
 # ----------------------------------------------------------------------------------------------------------------
+FAR_WALL_TOLERANCE = 0.02
+"""The point across the nearest disk is on the lumen's wall unless it lies deeper inside the lumen than this fraction
+of its distance from the query point (then it is in another tube's opening or behind the entrance cap; a tapering
+tube's disks put it at most ``R R'²/2`` inside, 1e-4 mm for ``R' = 0.01``)."""
+
 MEMO_SIZE = 4
 """Answers of :meth:`Vessel.clearance` a vessel keeps (see :class:`Memo`)."""
 
@@ -161,6 +166,21 @@ class TubeGeometry:
         return out
 
     def clearance(self, p: FloatArray) -> Clearance:
+        return self._wall(p, 1.0)
+
+    def far_side(self, p: FloatArray) -> Clearance:
+        """The wall across the lumen from the nearest one (:meth:`Vessel.far_side`): through the centre of the
+        nearest disk, on its other side; ``distance`` inf where that point is not on the lumen's boundary (an
+        entrance cap, a branch's opening)."""
+        far = self._wall(p, -1.0)
+        check = self.clearance(far.boundary)
+        gone = check.distance > FAR_WALL_TOLERANCE * far.distance
+        return Clearance(distance=np.where(gone, np.inf, far.distance), normal=far.normal, boundary=far.boundary,
+                         curvature=far.curvature)
+
+    def _wall(self, p: FloatArray, across: float) -> Clearance:
+        """The nearest wall (``across = 1``) or the one across the nearest disk (``across = −1``): signed distance
+        along the disk's radius, outward normal, wall point and its curvature."""
         tubes = self.tubes
         best, flat = self.best(p)
         u, k, source = best["u"][flat], best["k"][flat], best["source"][flat]
@@ -168,7 +188,7 @@ class TubeGeometry:
         tangent, kappa = best["t"][flat], best["kappa"][flat]
         left = np.column_stack((-tangent[:, 1], tangent[:, 0]))
         on_axis = r <= 1e-12 * np.maximum(radius, 1.0)
-        e = np.where(on_axis[:, None], left, v / np.where(on_axis, 1.0, r)[:, None])
+        e = across * np.where(on_axis[:, None], left, v / np.where(on_axis, 1.0, r)[:, None])
         boundary = centre + radius[:, None] * e
         side = np.where(e[:, 0] * left[:, 0] + e[:, 1] * left[:, 1] >= 0.0, 1.0, -1.0)
         # boundary curvature: the offset curve's κ/(1 − side·R·κ) where the radius is constant (exact); where it
@@ -185,7 +205,7 @@ class TubeGeometry:
         cap = (source == 0) & (u <= tubes.lo[k]) & (e[:, 0] * tangent[:, 0] + e[:, 1] * tangent[:, 1] < 0.0)
         cap |= source == 3
         curvature = np.where(cap, -1.0 / radius, curvature)
-        return Clearance(distance=radius - r, normal=e, boundary=boundary, curvature=curvature)
+        return Clearance(distance=radius - across * r, normal=e, boundary=boundary, curvature=curvature)
 
     def path(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
         return curve_path(self.main, s)
@@ -292,6 +312,10 @@ class WallGeometry:
         self.entrance = curve_entrance(self.main)
 
     def clearance(self, p: FloatArray) -> Clearance:
+        return self._wall(p, 1.0)
+
+    def _wall(self, p: FloatArray, across: float) -> Clearance:
+        """The nearer wall (``across = 1``) or the other one (``across = −1``)."""
         tubes = self.tubes
         m = len(p)
         best = tubes.closest(p)
@@ -303,8 +327,15 @@ class WallGeometry:
         distance = (sign * r).reshape(2, m)
         pick = np.argmin(distance, axis=0)
         flat = pick * m + np.arange(m)
+        if across < 0.0:
+            pick = 1 - pick
+            flat = pick * m + np.arange(m)
         return Clearance(distance=distance[pick, np.arange(m)], normal=-inward[flat], boundary=best["centre"][flat],
                          curvature=-side[flat] * kappa[flat])
+
+    def far_side(self, p: FloatArray) -> Clearance:
+        """The other wall (:meth:`Vessel.far_side`)."""
+        return self._wall(p, -1.0)
 
     def past_end(self, p: FloatArray) -> NDArray[np.bool_]:
         return np.zeros(len(p), dtype=bool)

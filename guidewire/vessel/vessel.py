@@ -275,6 +275,23 @@ class Vessel:
         p = np.asarray(points, dtype=float).reshape(-1, 2)
         return self._geometry.answers.get(p, self._geometry.clearance)
 
+    def far_side(self, points: ArrayLike) -> Clearance:
+        """The wall across the lumen from the nearest one, for points inside (mm, unit normals, 1/mm).
+
+        For a tube, the wall point across the disk that gives :meth:`clearance` (through its centre, on its other
+        side); for a two-wall vessel, the farther wall. A node's row on its nearest wall alone lets it cross the
+        lumen and pass through this one unseen (:mod:`guidewire.blocks.lumen`).
+
+        Returns
+        -------
+        Clearance
+            As :meth:`clearance` for that wall: ``distance`` (≥ the nearest wall's), outward ``normal``,
+            ``boundary`` point and ``curvature``; ``distance`` is inf where the point across is no wall (behind the
+            entrance cap, in a branch's opening).
+        """
+        p = np.asarray(points, dtype=float).reshape(-1, 2)
+        return self._geometry.far_side(p)
+
     def past_end(self, points: ArrayLike) -> NDArray[np.bool_]:
         """Whether each point lies beyond a tube's far end (in the straight continuation that lets a tip leave the
         vessel), shape (m,). Always False for the lumen between two walls (open at both ends)."""

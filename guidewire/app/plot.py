@@ -196,7 +196,8 @@ def plot_panel(
 
 
 def plot_solution(solution: Solution, *, reference: Any = None, title: str | None = None) -> Figure:
-    """A figure of one solved scene with a stress colour bar (MPa)."""
+    """A figure of one solved scene with a stress colour bar (MPa); a failed solve's title starts ``FAILED
+    (STATUS):`` (before ``title`` when one is given) in the failure colour, with the message on the figure."""
     load_matplotlib()
     from matplotlib.figure import Figure
 
@@ -205,7 +206,7 @@ def plot_solution(solution: Solution, *, reference: Any = None, title: str | Non
     refs = None if reference is None else [reference]
     heading = f"{solution.scene.name} ({solution.scheme}), E = {solution.energy:.4g} N·mm" if title is None else title
     if not solution.success:
-        heading = f"FAILED ({status_name(solution.status)}): {solution.scene.name}" if title is None else title
+        heading = f"FAILED ({status_name(solution.status)}): {solution.scene.name if title is None else title}"
         plot_panel(ax, solution.scene, [solution], references=refs, title=heading,
                    message=textwrap.fill(solution.message, 70))
         ax.title.set_color(FAILURE_COLOR)

@@ -188,22 +188,24 @@ class Formulation:
 
     def max_violation(self, phi: FloatArray, nodes: FloatArray | None = None) -> float:
         """Largest violation (mm or rad) of any block at the bar angles ``phi`` — walls at every node, not only
-        their working set. ``nodes``: the chain's nodes at ``phi`` when the caller has them."""
-        points = self.model.chain.nodes(phi) if nodes is None else nodes
-        rows: tuple[Rows | None, ...] = self.rows or (None,) * len(self.blocks)
-        return max((float(np.max(b.violation(self.model, phi, points, r), initial=0.0))
-                    for b, r in zip(self.blocks, rows, strict=True)), default=0.0)
+        their working set; inf where a violation is not a number. ``nodes``: the chain's nodes at ``phi`` when the
+        caller has them."""
+        return self.worst_violation(phi, nodes)[0]
 
     def worst_violation(self, phi: FloatArray, nodes: FloatArray | None = None) -> tuple[float, Block | None, int]:
-        """The largest violation at ``phi`` (as :meth:`max_violation`), the block it belongs to and its node (0 and
-        None, -1 when nothing is violated)."""
+        """The largest violation at ``phi`` (:meth:`max_violation`), the block it belongs to and its node: a block
+        whenever the violation is positive (a NaN counts as inf, so a block is named for it too); 0, None and -1
+        when nothing is violated."""
         points = self.model.chain.nodes(phi) if nodes is None else nodes
         rows: tuple[Rows | None, ...] = self.rows or (None,) * len(self.blocks)
         worst: tuple[float, Block | None, int] = (0.0, None, -1)
         for block, r in zip(self.blocks, rows, strict=True):
-            v = block.violation(self.model, phi, points, r)
-            if v.size and float(v.max()) > worst[0]:
-                k = int(np.argmax(v))
+            v = np.asarray(block.violation(self.model, phi, points, r), dtype=float)
+            if not v.size:
+                continue
+            v = np.where(np.isnan(v), np.inf, v)
+            k = int(np.argmax(v))
+            if v[k] > worst[0]:
                 worst = (float(v[k]), block, int(block.violation_nodes(self.model)[k]))
         return worst
 

@@ -339,17 +339,18 @@ def shape_defect(form: Formulation, phi: FloatArray, nodes: FloatArray, max_viol
     """What a user would see wrong with a converged shape, or None: bars that cross each other
     (:func:`guidewire.chain.crossing.crossing_bars`), or a constraint violated beyond ``VIOLATION_FACTOR · tol · L``
     anywhere (walls and the lumen at every node, not only their working set), named by its block, node, arc length
-    and excess."""
+    and excess (:meth:`Formulation.worst_violation`, which names a block for every positive or NaN violation).
+    ``max_violation`` (``form.max_violation(phi, nodes)``) only decides whether to look."""
     crossing = crossing_bars(nodes)
     if crossing is not None:
         i, j = crossing
         return (f"bars {i + 1} and {j + 1} cross each other (s = {form.chain.arc_lengths[i]:.4g} and "
                 f"{form.chain.arc_lengths[j]:.4g} mm): the shape intersects itself, which no wire can do")
     limit = VIOLATION_FACTOR * tol * max(1.0, form.scene.wire.length)
-    if max_violation > limit:
+    if not max_violation <= limit:  # (NaN too)
         amount, block, node = form.worst_violation(phi, nodes)
-        if block is None:
-            return f"a constraint is violated by {max_violation:.3g} at the answer, more than {limit:.3g}"
+        if block is None or amount <= limit:  # (a max_violation not from form.max_violation(phi, nodes))
+            return None
         s = float(form.chain.arc_lengths[node]) if 0 <= node < form.chain.arc_lengths.size else float("nan")
         return (f"the {block.describe(form.model)} is violated at node {node} (s = {s:.4g} mm) by {amount:.3g} "
                 f"{block.unit}, more than the {limit:.3g} allowed")

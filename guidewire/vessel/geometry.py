@@ -210,6 +210,22 @@ class TubeGeometry:
     def path(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
         return curve_path(self.main, s)
 
+    def junction(self, branch: int) -> float:
+        """Arc length (mm) along the main centreline of the point nearest to branch ``branch``'s first point."""
+        curve = self.centre_curves[branch + 1]
+        gap = np.hypot(*(self.main.samples - curve.samples[0]).T)
+        return float(self.main.s[int(np.argmin(gap))])
+
+    def route(self, s: FloatArray, branch: int) -> tuple[FloatArray, FloatArray]:
+        """Points and tangent angles at arc lengths ``s`` along the main centreline up to branch ``branch``'s
+        :meth:`junction`, and along the branch's centreline after it."""
+        s_j = self.junction(branch)
+        points, angles = curve_path(self.main, s)
+        after = s > s_j
+        if after.any():
+            points[after], angles[after] = curve_path(self.centre_curves[branch + 1], s[after] - s_j)
+        return points, angles
+
     def wall_lines(self) -> list[FloatArray]:
         out = []
         for k, c in enumerate(self.tubes.curves):

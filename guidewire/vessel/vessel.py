@@ -303,6 +303,20 @@ class Vessel:
         the entrance; beyond either end the centreline continues straight along its end tangent."""
         return self._geometry.path(np.atleast_1d(np.asarray(s, dtype=float)))
 
+    def route(self, s: ArrayLike, branch: int) -> tuple[FloatArray, FloatArray]:
+        """Points (m, 2) in mm and tangent angles (m,) in rad at arc lengths ``s`` (mm) along the way through branch
+        ``branch`` (0-based, as in ``branches``): the main centreline up to the junction (the main centreline's point
+        nearest the branch's first point), the branch's centreline after it (straight on past its end)."""
+        if not 0 <= int(branch) < len(self.branches):
+            raise ValueError(f"branch is {branch!r}; this vessel has {len(self.branches)} branch(es), numbered from 0.")
+        return self._geometry.route(np.atleast_1d(np.asarray(s, dtype=float)), int(branch))
+
+    def junction(self, branch: int) -> float:
+        """Arc length (mm) along the main centreline where branch ``branch`` leaves it (see :meth:`route`)."""
+        if not 0 <= int(branch) < len(self.branches):
+            raise ValueError(f"branch is {branch!r}; this vessel has {len(self.branches)} branch(es), numbered from 0.")
+        return self._geometry.junction(int(branch))
+
     def radius_at(self, s: ArrayLike) -> FloatArray:
         """Lumen radius (mm) of the main tube at arc lengths ``s`` (mm); the end values beyond the ends. For a
         two-wall vessel, half the distance between the walls along the midline."""

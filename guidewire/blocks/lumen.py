@@ -24,6 +24,18 @@ within 3 bar lengths or a quarter of their distance of touching it, the cold sol
 nodes up to 9 mm outside after the first round, 1596 iterations), and 45 mm in 180 bars took 107 iterations (12 s);
 with both rows at every node, 10 iterations, and 9 (0.04 s).
 
+Where a branch leaves, its walls meet the parent's at a corner (:attr:`guidewire.vessel.Vessel.corners`) that no
+curvature describes: a bar between a node in the parent and one in the branch cuts through it while both nodes keep
+their clearance (measured on ``scenes/vessels/s_bend_branch.toml``: insertion steps from 40 mm on with a bar's
+midpoint 0.32 mm closer to the corner than the wire's radius, its energy swinging by 10 % as the nodes slid past the
+corner). A node near a corner ``C`` whose wedge of wall has the angle ``2φ`` (:attr:`Vessel.corner_angles`) needs
+``|p − C| ≥ √(r² + w²)``, ``w = max(l/2, (l − 2r cos φ)/(2 sin φ))``: with both nodes of a bar of length ``l`` that far
+from ``C`` and ``r`` from the walls, its chord passes ``C`` at ``r`` or more on the lumen's side (``l/2``, the sag
+rule's limit ``κ → ∞``) and is too short to span the wedge's two walls from one side to the other (the shortest such
+chord, symmetric about the wedge's bisector, has length ``2 sin φ √(R² − r²) + 2r cos φ``). Its row is the same
+quadratic model with ``D = |p − C|`` (Hessian ``t tᵀ/D``), for the nodes within the lumen's width (plus
+:data:`CORNER_BARS` bar lengths) of needing it.
+
 Every node is checked against the true lumen before a shape is returned (:meth:`Lumen.violation`). Multiplier
 ``λ_r ≥ 0``: the wall's normal force on the row's node in N, along ``−n_r``.
 """
@@ -34,7 +46,6 @@ from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
-from numpy.typing import NDArray
 
 from .base import Block, FloatArray, IntArray, Loads, NodeRows, WorkingSet, grown_by_neighbours
 
@@ -47,6 +58,16 @@ this times the solve tolerance ``tol · max(1, L)`` (mm)."""
 
 MIN_DENOMINATOR = 0.1
 """Floor of ``1 + κ D⁰`` in the distance's curvature ``κ/(1 + κ D⁰)`` (a node far outside a bulging wall)."""
+
+CORNER_BARS = 3.0
+"""A node gets a row on a wall corner when it is within the lumen's width there plus this many bar lengths of needing
+it (a node moves across the lumen, no farther, in one round)."""
+
+MIN_WEDGE = 0.1
+"""Least wedge angle (rad) a corner's rows assume (a thinner wedge of wall would need nodes ever farther away)."""
+
+KEY_STRIDE = 1 << 24
+"""Row keys: ``node + side × KEY_STRIDE`` (side 0 the nearest wall, 1 across, ``2 + c`` corner ``c``)."""
 
 TOUCHING_BARS = 0.1
 """A node within this many bar lengths of its row's bound touches it (only those rows need to be exact)."""
@@ -65,9 +86,28 @@ def node_diameters(model: Model, nodes: IntArray) -> FloatArray:
 def _needed(model: Model, curvature: FloatArray, nodes: IntArray) -> FloatArray:
     """Clearance each node needs (mm): its radius (:func:`node_diameters`) plus the sag of its longer bar's chord on a
     bulging wall."""
+    return 0.5 * node_diameters(model, nodes) + _bars(model, nodes) ** 2 * np.maximum(curvature, 0.0) / 8.0
+
+
+def _bars(model: Model, nodes: IntArray) -> FloatArray:
+    """The longer of the two bars at each node (the only one at the tip), mm."""
     lengths = model.chain.lengths
-    bar = np.maximum(lengths[np.minimum(nodes, lengths.size) - 1], lengths[np.minimum(nodes, lengths.size - 1)])
-    return 0.5 * node_diameters(model, nodes) + bar**2 * np.maximum(curvature, 0.0) / 8.0
+    return np.maximum(lengths[np.minimum(nodes, lengths.size) - 1], lengths[np.minimum(nodes, lengths.size - 1)])
+
+
+def _corner_needed(model: Model, nodes: IntArray) -> FloatArray:
+    """Distance (mm) each node of ``nodes`` needs from each corner of the vessel, shape (nodes, corners):
+    ``√(r² + w²)``, ``w = max(l/2, (l − 2r cos φ)/(2 sin φ))`` with ``φ`` half the corner's wedge angle (module
+    docstring)."""
+    r, l = 0.5 * node_diameters(model, nodes)[:, None], _bars(model, nodes)[:, None]
+    half = 0.5 * np.clip(model.scene.vessel.corner_angles, MIN_WEDGE, np.pi)[None, :]
+    return np.hypot(r, np.maximum(0.5 * l, (l - 2.0 * r * np.cos(half)) / (2.0 * np.sin(half))))
+
+
+def _corner_gaps(model: Model, points: FloatArray, nodes: IntArray) -> FloatArray:
+    """Distance (mm) of every node of ``nodes`` from every corner of the vessel, shape (nodes, corners)."""
+    corners = model.scene.vessel.corners
+    return np.hypot(points[nodes, None, 0] - corners[None, :, 0], points[nodes, None, 1] - corners[None, :, 1])
 
 
 @dataclass(frozen=True)
@@ -86,9 +126,9 @@ class Lumen(Block):
         Wall curvature there (1/mm, > 0 where it bulges into the lumen).
     needed : ndarray, shape (rows,)
         Clearance each node needs (mm): ``d_k/2`` (its section's diameter) plus the chord sag.
-    across : ndarray of bool, shape (rows,)
-        Rows on the wall across the lumen (:meth:`Vessel.far_side`); the others are on the nearest wall. ``nodes``
-        holds a node once or twice (nearest-wall rows first).
+    sides : ndarray of int, shape (rows,)
+        What each row keeps the node from: 0 its nearest wall, 1 the wall across the lumen (:meth:`Vessel.far_side`),
+        ``2 + c`` the vessel's corner ``c`` (curvature inf). ``nodes`` holds a node once for each (in that order).
     """
 
     kind: ClassVar[str] = "lumen"
@@ -97,7 +137,7 @@ class Lumen(Block):
     depths: FloatArray = field(default_factory=lambda: np.zeros(0), compare=False)
     curvatures: FloatArray = field(default_factory=lambda: np.zeros(0), compare=False)
     needed: FloatArray = field(default_factory=lambda: np.zeros(0), compare=False)
-    across: NDArray[np.bool_] = field(default_factory=lambda: np.zeros(0, dtype=bool), compare=False)
+    sides: IntArray = field(default_factory=lambda: np.zeros(0, dtype=int), compare=False)
 
     @classmethod
     def build(cls, model: Model, working_set: WorkingSet = None) -> list[Block]:
@@ -114,28 +154,44 @@ class Lumen(Block):
 
     @classmethod
     def _modelled(cls, model: Model, nodes: IntArray, points: FloatArray) -> Lumen:
-        """Rows for ``nodes`` (sorted, unique) modelled at ``points``: each on its nearest wall, then each whose
-        lumen has a wall across on that one (nearest-wall rows first)."""
+        """Rows for ``nodes`` (sorted, unique) modelled at ``points``: each on its nearest wall, then each whose lumen
+        has a wall across on that one, then on the corners within reach (module docstring)."""
         vessel = model.scene.vessel
         nodes = np.asarray(nodes, dtype=int)
         near = vessel.clearance(points[1:])  # every node (the answer is kept for the checks that follow)
         far = vessel.far_side(points[nodes])
         keep = np.isfinite(far.distance)
-        rows = np.concatenate((nodes, nodes[keep]))
-        curvature = np.concatenate((near.curvature[nodes - 1], far.curvature[keep]))
-        return cls((0,), rows, centres=points[rows].copy(),
-                   normals=np.concatenate((near.normal[nodes - 1], far.normal[keep])),
-                   depths=np.concatenate((near.distance[nodes - 1], far.distance[keep])), curvatures=curvature,
-                   needed=_needed(model, curvature, rows), across=np.repeat([False, True], [nodes.size, keep.sum()]))
+        depth = near.distance[nodes - 1]
+        parts = [(nodes, near.normal[nodes - 1], depth, near.curvature[nodes - 1], np.zeros(nodes.size, dtype=int)),
+                 (nodes[keep], far.normal[keep], far.distance[keep], far.curvature[keep],
+                  np.ones(int(keep.sum()), dtype=int))]
+        if vessel.corners.size:
+            gaps = _corner_gaps(model, points, nodes)
+            width = depth + np.where(keep, far.distance, depth)
+            reach = width + CORNER_BARS * _bars(model, nodes)
+            corner_needed = _corner_needed(model, nodes)
+            k, c = np.nonzero(gaps - corner_needed <= reach[:, None])
+            toward = vessel.corners[c] - points[nodes[k]]
+            parts.append((nodes[k], toward / gaps[k, c, None], gaps[k, c], np.full(k.size, np.inf), 2 + c))
+        rows, normals, depths, curvatures, sides = (np.concatenate(column) for column in zip(*parts, strict=True))
+        wall = sides < 2
+        needed = _needed(model, np.where(wall, curvatures, 0.0), rows)
+        if not wall.all():
+            needed[~wall] = corner_needed[k, c]
+        return cls((0,), rows, centres=points[rows].copy(), normals=normals, depths=depths, curvatures=curvatures,
+                   needed=needed, sides=sides)
 
     @property
     def row_keys(self) -> IntArray:
-        """``2 k`` for node ``k``'s row on its nearest wall, ``2 k + 1`` for its row across the lumen."""
-        return 2 * self.nodes + self.across.astype(int)
+        """``k + side × KEY_STRIDE`` for node ``k``'s row on ``side`` (see :attr:`sides`)."""
+        return self.nodes + self.sides * KEY_STRIDE
 
     def rows(self, model: Model) -> NodeRows:
         tangent = np.column_stack((-self.normals[:, 1], self.normals[:, 0]))
-        weight = self.curvatures / np.maximum(1.0 + self.curvatures * self.depths, MIN_DENOMINATOR)
+        wall = np.isfinite(self.curvatures)
+        kappa = np.where(wall, self.curvatures, 0.0)
+        weight = np.where(wall, kappa / np.maximum(1.0 + kappa * self.depths, MIN_DENOMINATOR),
+                          1.0 / np.maximum(self.depths, self.needed))  # a corner: |p − C|'s Hessian t tᵀ / D
         hessians = weight[:, None, None] * tangent[:, :, None] * tangent[:, None, :]
         d = -self.normals
         lb = self.needed - self.depths + np.einsum("ij,ij->i", d, self.centres)
@@ -154,9 +210,15 @@ class Lumen(Block):
         return out
 
     def slack(self, model: Model, points: FloatArray) -> FloatArray:
-        """True clearance minus the clearance needed, at every node 1..n (mm; negative: outside the lumen)."""
+        """True clearance minus the clearance needed, at every node 1..n (mm; negative: outside the lumen or too
+        near one of its corners)."""
+        nodes = np.arange(1, model.n + 1)
         c = model.scene.vessel.clearance(points[1:])
-        return c.distance - _needed(model, c.curvature, np.arange(1, model.n + 1))
+        slack = c.distance - _needed(model, c.curvature, nodes)
+        if model.scene.vessel.corners.size:
+            gaps = _corner_gaps(model, points, nodes)
+            slack = np.minimum(slack, np.min(gaps - _corner_needed(model, nodes), axis=1))
+        return slack
 
     def violation(self, model: Model, phi: FloatArray, points: FloatArray | None = None,
                   rows: Any = None) -> FloatArray:
@@ -181,8 +243,13 @@ class Lumen(Block):
         violated = np.flatnonzero(slack < -tolerance) + 1
         rows = self.rows(model)
         model_slack = rows.values(points) - rows.lb
+        true_slack = slack[self.nodes - 1]
+        corner = self.sides >= 2
+        if corner.any():
+            c = model.scene.vessel.corners[self.sides[corner] - 2]
+            true_slack[corner] = np.hypot(*(points[self.nodes[corner]] - c).T) - self.needed[corner]
         touching = model_slack <= TOUCHING_BARS * float(np.max(model.chain.lengths))
-        stale = touching & (np.abs(slack[self.nodes - 1] - model_slack) > PLANE_TOLERANCE * tolerance)
+        stale = touching & (np.abs(true_slack - model_slack) > PLANE_TOLERANCE * tolerance)
         if not violated.size and not np.any(stale):
             return None
         nodes = grown_by_neighbours(np.unique(self.nodes), violated, model.n)

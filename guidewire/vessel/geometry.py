@@ -39,6 +39,10 @@ FAR_WALL_TOLERANCE = 0.02
 of its distance from the query point (then it is in another tube's opening or behind the entrance cap; a tapering
 tube's disks put it at most ``R R'²/2`` inside, 1e-4 mm for ``R' = 0.01``)."""
 
+CORNER_TOLERANCE = 1e-3
+"""Two tubes' walls cross on the lumen's boundary (:func:`wall_corners`) where the crossing's clearance is within this
+fraction of the largest radius of 0 (the sampled walls are chords of the true ones)."""
+
 MEMO_SIZE = 4
 """Answers of :meth:`Vessel.clearance` a vessel keeps (see :class:`Memo`)."""
 
@@ -105,6 +109,8 @@ class TubeGeometry:
         reach = [max(TAIL_REACH, TAIL_REACH_RADII * float(c.radius[-1])) for c in curves]
         self.tubes = Tubes(curves, head_open=[False] * len(curves), tail_open=[True] * len(curves), reach=reach)
         self.varying = np.array([np.ptp(rad) > 0.0 for _, rad, _ in lines])
+        self._corners: tuple[FloatArray, FloatArray] | None = None if len(curves) > 1 else (np.zeros((0, 2)),
+                                                                                           np.zeros(0))
         if len(curves) > 1:
             main_only = Tubes(curves[:1], head_open=[False], tail_open=[True])
             start = np.array([c.samples[0] for c in curves[1:]])
@@ -116,6 +122,16 @@ class TubeGeometry:
                         f"vessel.branch[{i}].centreline starts at {_fmt_point(start[i])}, {-d:.3g} mm outside the "
                         "main lumen; start each branch inside its parent (e.g. on the parent's centreline)."
                     )
+
+    @property
+    def corners(self) -> tuple[FloatArray, FloatArray]:
+        """Where two tubes' walls meet on the lumen's boundary (the wall's corners at a branch's opening), shape
+        (c, 2) in mm, and the wall's angle at each (rad, < π: the wedge of wall between the lumen's two sides);
+        computed once."""
+        if self._corners is None:
+            points = wall_corners(self.wall_lines(), self.clearance, float(self.tubes.rmax.max()))
+            self._corners = (points, wedge_angles(points, self.clearance, float(self.tubes.rmax.min())))
+        return self._corners
 
     def best(self, p: FloatArray) -> tuple[dict[str, FloatArray], NDArray[np.intp]]:
         """The closest-point answers of :meth:`Tubes.closest_pairs` and, per point, the index into them of the tube
@@ -235,6 +251,44 @@ class TubeGeometry:
         return out
 
 
+def wall_corners(lines: list[FloatArray], clearance: Any, scale: float) -> FloatArray:
+    """Points where wall polylines of different tubes (two per tube, in order) cross on the lumen's boundary (the
+    crossing point's clearance within :data:`CORNER_TOLERANCE` ``× scale`` of 0, not inside a third tube), (c, 2)."""
+    found = []
+    for i, a in enumerate(lines):
+        for b in lines[2 * (i // 2 + 1):]:
+            a0, a1, b0, b1 = a[:-1, None], a[1:, None], b[None, :-1], b[None, 1:]
+            ii, jj = np.nonzero(segments_cross(a0, a1, b0, b1))
+            if ii.size:
+                da, db, w = a[ii + 1] - a[ii], b[jj + 1] - b[jj], b[jj] - a[ii]
+                det = da[:, 0] * db[:, 1] - da[:, 1] * db[:, 0]
+                t = (w[:, 0] * db[:, 1] - w[:, 1] * db[:, 0]) / np.where(det == 0.0, 1.0, det)
+                found.append(a[ii] + t[:, None] * da)
+    if not found:
+        return np.zeros((0, 2))
+    points = np.concatenate(found)
+    on_wall = np.abs(clearance(points).distance) <= CORNER_TOLERANCE * scale
+    return points[on_wall]
+
+
+WEDGE_RAYS = 720
+"""Directions sampled around a corner to measure its wedge of wall (:func:`wedge_angles`), 0.5° apart."""
+
+WEDGE_REACH = 1e-3
+"""... at this fraction of the least tube radius from the corner."""
+
+
+def wedge_angles(points: FloatArray, clearance: Any, radius: float) -> FloatArray:
+    """The angle (rad) of the wedge of wall at each corner: the share of :data:`WEDGE_RAYS` directions around it
+    whose point at :data:`WEDGE_REACH` ``× radius`` lies outside the lumen, times 2π."""
+    if not len(points):
+        return np.zeros(0)
+    a = 2.0 * math.pi * (np.arange(WEDGE_RAYS) + 0.5) / WEDGE_RAYS
+    probe = points[:, None, :] + WEDGE_REACH * radius * np.stack((np.cos(a), np.sin(a)), axis=1)[None]
+    outside = clearance(probe.reshape(-1, 2)).distance.reshape(len(points), WEDGE_RAYS) < 0.0
+    return 2.0 * math.pi * outside.mean(axis=1)
+
+
 def curve_path(curve: Curve, s: FloatArray) -> tuple[FloatArray, FloatArray]:
     value, d1, _ = curve.evaluate(curve.u_of_s(s))
     points, angle = value[:, :2].copy(), np.arctan2(d1[:, 1], d1[:, 0])
@@ -348,6 +402,9 @@ class WallGeometry:
             flat = pick * m + np.arange(m)
         return Clearance(distance=distance[pick, np.arange(m)], normal=-inward[flat], boundary=best["centre"][flat],
                          curvature=-side[flat] * kappa[flat])
+
+    corners = (np.zeros((0, 2)), np.zeros(0))
+    """A two-wall lumen has no corners."""
 
     def far_side(self, p: FloatArray) -> Clearance:
         """The other wall (:meth:`Vessel.far_side`)."""

@@ -275,6 +275,18 @@ class Vessel:
         p = np.asarray(points, dtype=float).reshape(-1, 2)
         return self._geometry.answers.get(p, self._geometry.clearance)
 
+    @property
+    def corners(self) -> FloatArray:
+        """The lumen wall's corners (mm), shape (c, 2): where a branch's walls meet its parent's at the opening, the
+        wall turning sharply into the lumen (a chord between two inside points can cut through it,
+        :mod:`guidewire.blocks.lumen`); none for a vessel without branches."""
+        return self._geometry.corners[0]
+
+    @property
+    def corner_angles(self) -> FloatArray:
+        """The angle (rad, 0 to π) of the wedge of wall at each of :attr:`corners`, shape (c,)."""
+        return self._geometry.corners[1]
+
     def far_side(self, points: ArrayLike) -> Clearance:
         """The wall across the lumen from the nearest one, for points inside (mm, unit normals, 1/mm).
 

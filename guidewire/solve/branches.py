@@ -33,13 +33,6 @@ spacing of a mirror start. Measured on the 800 random
 scenes: the scan added a start on 1.4 % of them, changed no energy there, and costs about 2–3 ms per scene with a
 free tangent (a batched Newton grid over 12 × 2 segments).
 
-In a vessel the free tangents are the lumen's business, and the doubt is which way the wire goes where the vessel
-divides: the default start follows the main centreline, while an insertion whose tip met a side branch follows that
-branch (measured on ``scenes/vessels/s_bend_branch.toml``, a branch leaving the inflection of an S: from 40.5 to 42.5
-mm inserted, the insertion lies in the branch at 1.83–2.19 N·mm, the main centreline's answer at 2.58–2.79). So a
-vessel with branches gets a *route start* per branch whose junction lies within the wire's length: the main
-centreline up to the junction and the branch's centreline after it (:meth:`guidewire.vessel.Vessel.route`).
-
 The candidates are built from the scene's geometry and the first answer only, so the mirrored or rotated scene gets
 the mirrored or rotated candidates, in the same order, and keeps the mirrored or rotated answer.
 """
@@ -96,9 +89,8 @@ def _reflect(angle: float, chord: float) -> float:
 
 
 def candidate_starts(first: Solution) -> list[tuple[str, FloatArray]]:
-    """The candidate starts of the module docstring for the scene ``first`` solved: in a vessel its
-    :func:`route_starts`, else the mirror and tangent-scan starts (empty when no pose has a free tangent, ``first``
-    failed, or it came from the full-space layout).
+    """The candidate starts of the module docstring for the scene ``first`` solved (empty when no pose has a free
+    tangent, or ``first`` failed).
 
     Parameters
     ----------
@@ -108,18 +100,15 @@ def candidate_starts(first: Solution) -> list[tuple[str, FloatArray]]:
     Returns
     -------
     list of (str, ndarray of shape (n,))
-        A label (``"mirror start k"``, ``"tangent-scan start k"``; in a vessel ``"route start k"``, see
-        :func:`route_starts`) and the bar angles (rad) of each candidate, in a
+        A label (``"mirror start k"``, ``"tangent-scan start k"``) and the bar angles (rad) of each candidate, in a
         fixed order: the mirror starts segment by segment from the base, its first end reflected, then its second
         (reflecting both ends of a segment at once, a mirror C, found no lower branch that these missed on the 800
         benchmark scenes and cost a quarter more solves: not tried); then the tangent-scan start of each free pose
         from the base on.
     """
     scene = first.scene
-    if not first.success or first.layout != "reduced":
+    if not first.success or first.layout != "reduced" or getattr(scene, "vessel", None) is not None:
         return []
-    if getattr(scene, "vessel", None) is not None:
-        return route_starts(first)
     contacts = scene.contacts
     posed = [i for i, c in enumerate(contacts) if c.point is not None]
     free = [scene.base.angle is None] + [contacts[i].angle is None for i in posed]
@@ -139,22 +128,6 @@ def candidate_starts(first: Solution) -> list[tuple[str, FloatArray]]:
         counts[kind] += 1
         starts.append((f"{kind} start {counts[kind]}",
                        initial_angles(_with_pose_tangents(scene, posed, trial), chain, contact_nodes)))
-    return starts
-
-
-def route_starts(first: Solution) -> list[tuple[str, FloatArray]]:
-    """A start along each branch of ``first.scene.vessel`` whose junction lies within the wire (module docstring):
-    ``("route start k", bar angles)``, branches in order, in the winding of the first answer's first bar."""
-    vessel = first.scene.vessel
-    length = float(first.s[-1])
-    s_mid = 0.5 * (first.s[1:] + first.s[:-1])
-    starts = []
-    for k in range(len(vessel.branches)):
-        if vessel.junction(k) >= length:
-            continue
-        angles = np.unwrap(vessel.route(s_mid, k)[1])
-        angles += 2.0 * math.pi * round((float(first.bar_angles[0]) - angles[0]) / (2.0 * math.pi))
-        starts.append((f"route start {k + 1} (through vessel.branch[{k}])", angles))
     return starts
 
 

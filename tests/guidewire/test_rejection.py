@@ -14,7 +14,7 @@ from guidewire.solve.result import shape_defect
 VESSELS = resources.files("guidewire") / "scenes" / "vessels"
 
 
-@pytest.mark.parametrize("name", ["bend.toml", "tortuous.toml"])
+@pytest.mark.parametrize("name", ["bend.toml", "tortuous.toml", "s_bend.toml", "s_bend_branch.toml"])
 def test_a_node_pushed_out_of_the_lumen_is_named_with_its_excess(name):
     """Bend the solved wire at a random joint by a random angle: the message names the lumen, the node that is
     farthest outside (found here from the vessel's own clearance) and its excess in mm."""
@@ -43,6 +43,21 @@ def test_a_node_pushed_out_of_the_lumen_is_named_with_its_excess(name):
         assert float(found.group(3)) == pytest.approx(excess.max(), rel=1e-2)
         checked += 1
     assert checked >= 3  # (a kink too small to leave the lumen is skipped, not passed)
+
+
+def test_a_violation_is_always_named_by_its_block_even_when_not_a_number():
+    """``max_violation`` is ``worst_violation``'s amount, so a rejection always names a block, node and arc length
+    (never "a constraint is violated by X"): a NaN node position counts as an infinite violation of the wall."""
+    form = guidewire.formulate(guidewire.paper_scenes()["fig6b"])
+    for bad in (3, form.n // 2, form.n - 1):
+        phi = form.x0.copy()
+        phi[bad] = np.nan
+        nodes = form.model.chain.nodes(phi)
+        amount, block, node = form.worst_violation(phi, nodes)
+        assert amount == form.max_violation(phi, nodes) == np.inf
+        assert block is not None and block.kind == "wall" and node == bad + 1
+        message = shape_defect(form, phi, nodes, form.max_violation(phi, nodes), 1e-8)
+        assert message.startswith(f"the wall 0 (the wire beyond it) is violated at node {bad + 1} (s = ")
 
 
 @pytest.mark.parametrize("available_gib", [0.5, 4.0, 23.0])

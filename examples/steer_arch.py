@@ -3,8 +3,8 @@ worked as schedule files and figures.
 
 The three branches leave the outer (upper) wall of the arch; from the descending-aorta entrance the wire meets the
 left subclavian first (its ostium 218 mm along the aorta), then the left common carotid (246 mm) and the
-brachiocephalic trunk (262 mm, on the ascending limb). The last two leave pointing back over the arch, 130-165
-degrees from the way the wire travels there. The search is this clinician's manoeuvre, in four phases:
+brachiocephalic trunk (262 mm, on the ascending limb). The last two leave pointing back over the arch, about 145
+and 165 degrees from the way the wire travels there. The search is this clinician's manoeuvre, in four phases:
 
 1. approach: push at clamp rotation 0 to :data:`APPROACH_SHORT` mm short of the first ostium. At 0 the J points at
    the outer wall (its tip tangent has +0.64 upward there).
@@ -26,8 +26,10 @@ format) with a figure ``examples/images/steer_<branch>.png``.
 Found at the scene's 2 bars per mm (452-536 bars at the end), each with the first pass rotation (180) and its first
 hook: the left common carotid hooked at 232 mm (tip 32 mm deep at 242 mm), the brachiocephalic trunk at 258 mm
 (tip 29 mm deep at 268 mm, 15 mm beyond the aorta's wall); the left subclavian by pushing at 0 to 226 mm (25 mm
-deep). Hooking earlier is not the same: turned back at 236 mm the J snaps into the left common carotid (checked by
-hand). The whole search takes about 1.5 minutes on one core.
+deep). For the trunk an earlier hook fails: turned back at 236 mm the J snaps into the left common carotid (checked by
+hand). The whole search takes about 1.5 minutes on one core. (Before ``solve3d`` dropped quadprog from its QP
+fallbacks, a step whose PIQP subproblem failed once handed quadprog a dense 2900-variable QP: 55-110 s for one
+2 mm push; the brachiocephalic replay took 109 s with one step of 86 s, now 34 s.)
 
 Usage: ``python examples/steer_arch.py [--branches NAME ...]`` (BLAS pinned to one thread). Replay from the
 repository root::

@@ -72,6 +72,7 @@ def minimize(
     feasibility_tol: float | None = None,
     verbose: bool = False,
     convexify_inequalities: bool = True,
+    qp_fallbacks: tuple[str, ...] | None = None,
 ) -> Result:
     """Minimise ``fun(x, *args)`` subject to bounds and constraints by SQP; scipy's ``minimize(method="SLSQP")`` call.
 
@@ -150,6 +151,9 @@ def minimize(
         With ``hess``: whether the augmented-Lagrangian convexification of an indefinite Lagrangian Hessian also
         covers the active inequalities (:attr:`sqp.Options.convexify_inequalities`; False when the active set moves
         along many rows at every iteration).
+    qp_fallbacks : tuple of str or None
+        Backends asked when the chosen one fails a subproblem (:attr:`sqp.Options.qp_fallbacks`); None: its
+        default.
 
     Returns
     -------
@@ -188,7 +192,8 @@ def minimize(
     options_ = Options(tol=call.tol, feasibility_tol=feasibility_tol, max_iter=call.max_iter, qp_solver=qp_solver,
                        qp_options=dict(qp_options or {}),
                        callback=adapt_callback(callback), verbose=call.table,
-                       convexify_inequalities=bool(convexify_inequalities))
+                       convexify_inequalities=bool(convexify_inequalities),
+                       **({} if qp_fallbacks is None else {"qp_fallbacks": tuple(qp_fallbacks)}))
     problem = build_problem(fun, x0, jac, bounds, constraints, args, hess, call.differences)
     if problem.hess is not None and hess0 is not None:  # exact Hessians replace it: check the shape only
         if np.shape(hess0) != (problem.n, problem.n):

@@ -141,6 +141,10 @@ class ReducedLayout:
     def own_constraints(self) -> list[Any]:
         return []
 
+    def newton_options(self, blocks: Sequence[Block]) -> dict[str, Any]:
+        """Options of :func:`sqp.minimize` with exact Hessians for this layout: the engine's defaults."""
+        return {}
+
     def node_rows(self, rows: NodeRows) -> Any:
         chain, point = self.model.chain, self.point
         k = rows.nodes

@@ -83,10 +83,10 @@ def choose_layout(bars: int, hessian: str = "exact", scene: Scene | None = None)
     process (medians of 5, BLAS one thread): Table 1 (π/4) 0.50x / 0.29x / 0.17x the time at 200 / 400 / 1600
     bars, Table 2 (π/4) 0.47x / 0.37x / 0.20x, Table 1 (-π/2) and Table 2 (π/2) alike. Wall rows are
     inequalities, dense in the reduced program: measured on Fig. 6a at 400 / 1600 bars reduced 2.1 s / 76 s, full
-    28 ms / 0.10 s. The BFGS path stays reduced (the paper's algorithm), and so do vessel scenes: with the lumen's
-    curved (quadratic) rows the full-space program is not yet reliable (the aortic arch at 245 bars ended MAX_ITER
-    three rounds running, where the reduced one converges)."""
-    if scene is not None and (scene.vessel is not None or not scene.walls):
+    28 ms / 0.10 s. Vessel scenes likewise: the bend at 400 / 800 bars reduced 14 s / 53 s, full 44 / 67 ms (the
+    lumen's curved rows one node each, :meth:`FullLayout.newton_options`). The BFGS path stays reduced (the paper's
+    algorithm)."""
+    if scene is not None and not (scene.walls or scene.vessel is not None):
         return "reduced"
     return "full" if hessian == "exact" and bars > FULL_SPACE_BARS else "reduced"
 
@@ -109,17 +109,39 @@ def available_memory() -> int | None:
     return None
 
 
-def check_memory(scene: Scene, bars: int, layout: str = "auto") -> None:
-    """Refuse, before any work, a vessel scene whose dense program of bar angles would not fit in memory: a
-    ValueError that gives the memory needed, the memory available and the largest bar count that fits."""
-    if scene.vessel is None or layout == "full":
-        return
-    need = DENSE_COPIES * 8.0 * float(bars) ** 2
+#: Peak memory of a vessel scene's full-space program per bar (bytes): measured 10 kB at 20 000 bars and 9.4 kB at
+#: 80 000 (the bend: peak resident size less that of the imports), with a margin.
+FULL_BYTES_PER_BAR = 12_000
+
+
+def program_bytes(bars: int, layout: str) -> float:
+    """Bytes a vessel scene's program with ``bars`` bars needs: ``DENSE_COPIES n²`` doubles for the dense program
+    of bar angles (``"reduced"``), :data:`FULL_BYTES_PER_BAR` a bar for the full space."""
+    return FULL_BYTES_PER_BAR * float(bars) if layout == "full" else DENSE_COPIES * 8.0 * float(bars) ** 2
+
+
+def fits_memory(bars: int, layout: str) -> bool:
+    """Whether :func:`program_bytes` fits in the memory available (True where that is unknown)."""
     have = available_memory()
-    if have is None or need <= have:
+    return have is None or program_bytes(bars, layout) <= have
+
+
+def check_memory(scene: Scene, bars: int, layout: str = "auto", hessian: str = "exact") -> None:
+    """Refuse, before any work, a vessel scene whose program would not fit in memory (:func:`program_bytes`): a
+    ValueError that gives the memory needed, the memory available and the largest bar count that fits. ``"auto"``
+    is the layout :func:`choose_layout` takes: the dense program of bar angles up to :data:`FULL_SPACE_BARS` bars
+    (or with ``hessian="bfgs"``), the full space (O(n) memory) above."""
+    if layout == "auto":
+        layout = choose_layout(bars, hessian, scene)
+    if scene.vessel is None or fits_memory(bars, layout):
         return
-    fits = int((have / (DENSE_COPIES * 8.0)) ** 0.5)
+    need, have = program_bytes(bars, layout), float(available_memory() or 0)
+    if layout == "full":
+        what, fits = f"its full-space program ({FULL_BYTES_PER_BAR // 1000} kB a bar)", int(have / FULL_BYTES_PER_BAR)
+    else:
+        what = f"its dense program of bar angles ({DENSE_COPIES} n² double values)"
+        fits = int((have / (DENSE_COPIES * 8.0)) ** 0.5)
     raise ValueError(
-        f"a vessel scene with {bars} bars needs about {need / 2**30:.1f} GiB for its dense program of bar angles "
-        f"({DENSE_COPIES} n² double values), more than the {have / 2**30:.1f} GiB available; use at most {fits} "
-        "bars (bars = ..., or fewer bars per mm in the scene file).")
+        f"a vessel scene with {bars} bars needs about {need / 2**30:.1f} GiB for {what}, more than the "
+        f"{have / 2**30:.1f} GiB available; use at most {fits} bars (bars = ..., or fewer bars per mm in the scene "
+        "file).")

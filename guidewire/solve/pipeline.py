@@ -19,7 +19,7 @@ import sqp
 from ..program.formulation import BlockMultipliers, Formulation, assemble, formulate
 from ..scene.scene import Scene
 from .branches import candidate_iterations, lowest_branch
-from .options import SolveOptions, check_memory, choose_layout
+from .options import SolveOptions, check_memory, choose_layout, fits_memory, program_bytes
 from .result import Solution, build_solution
 
 #: Rounds of the working set: solve, refine every block whose rows do not fit the answer (a wall: add the violating
@@ -39,6 +39,13 @@ FALLBACK_STATUSES = tuple(status.code for status in (
 #: The name :attr:`Solution.fallback` gives the retry.
 FALLBACK = "damped BFGS"
 
+#: A vessel scene the automatic layout puts in the full space (:func:`choose_layout`) gets this many iterations a
+#: round there before :func:`solve_once` solves the reduced program instead (when it fits in memory). Measured: the
+#: bend converges in 4 at 100-80 000 bars; the S-bend and the 250 mm arch at 400 bars did not within 500 (the
+#: identity shift that a compressed wire's Lagrangian Hessian needs on the closure rows' null space turns the
+#: iteration linear), where the reduced program takes 14-20.
+FULL_VESSEL_ITER = 30
+
 #: BLAS threads while solving: the matrices are small (≤ 300 variables dense; the full space is sparse), where a
 #: second BLAS thread only adds synchronisation (on Table 1, θ_B = π/4, 100 bars, on a 2-core machine under load:
 #: 47.7 ms with OpenBLAS's default 2 threads, 7.2 ms with 1). The caller's setting is restored after.
@@ -49,7 +56,8 @@ def run(scene: Scene, options: SolveOptions) -> Solution:
     """Solve ``scene`` with checked ``options``: from the default start (or the given one), then, with
     ``branches="lowest"`` and no given start, from the mirror starts of :mod:`guidewire.solve.branches`, keeping the
     lowest energy. Raises ValueError before any work for a vessel scene too large for memory."""
-    check_memory(scene, scene.wire.bars if options.bars is None else int(options.bars), options.layout)
+    check_memory(scene, scene.wire.bars if options.bars is None else int(options.bars), options.layout,
+                 options.hessian)
     start = time.perf_counter()
     with _blas_limit():
         first = solve_once(scene, options, start)
@@ -64,22 +72,40 @@ def run(scene: Scene, options: SolveOptions) -> Solution:
         return lowest_branch(first, solve_from, start)
 
 
+def _solve_in(scene: Scene, options: SolveOptions, layout: str, minimize_options: dict[str, Any],
+              runs: list[Any]) -> tuple[Formulation, Any]:
+    """Formulate ``scene`` in ``layout`` and solve it through the working-set rounds."""
+    form = formulate(scene, layout=layout, scheme=options.scheme, bars=options.bars,
+                     initial_angles=options.initial_angles, initial_nodes=options.initial_nodes,
+                     wall_nodes="near" if layout == "reduced" else None, reuse=options.reuse)
+    return rounds(form, options.hessian, start_multipliers(form, options.multipliers0), minimize_options, runs)
+
+
 def solve_once(scene: Scene, options: SolveOptions, start: float) -> Solution:
     """One start: formulate, minimize through the working-set rounds, and when the exact Hessian stalls
     (:data:`FALLBACK_STATUSES`) solve the reduced program again from the same start with damped BFGS (at most
-    ``min(max_iter, max(FALLBACK_MIN_ITER, max_iter // 5))`` iterations). ``start`` is when the clock started."""
+    ``min(max_iter, max(FALLBACK_MIN_ITER, max_iter // 5))`` iterations). A vessel scene in the full space by the
+    automatic choice gets :data:`FULL_VESSEL_ITER` iterations a round there, then the reduced program; neither
+    reduced retry is made when the dense program does not fit in memory (the message says so). ``start`` is when
+    the clock started."""
     n_bars = scene.wire.bars if options.bars is None else options.bars
     layout = options.layout
     if layout == "auto":
         layout = choose_layout(n_bars, options.hessian, scene) if isinstance(n_bars, int) else "reduced"
-    form = formulate(scene, layout=layout, scheme=options.scheme, bars=options.bars,
-                     initial_angles=options.initial_angles, initial_nodes=options.initial_nodes,
-                     wall_nodes="near" if layout == "reduced" else None, reuse=options.reuse)
     minimize_options = options.minimize_options()
     runs: list[Any] = []
-    first, res = rounds(form, options.hessian, start_multipliers(form, options.multipliers0), minimize_options, runs)
-    answer, fallback, message = first, None, None
-    if options.hessian == "exact" and res.status in FALLBACK_STATUSES:
+    tried = options.layout == "auto" and layout == "full" and scene.vessel is not None
+    form, res = _solve_in(scene, options, layout, {**minimize_options, "max_iter": min(
+        options.max_iter, FULL_VESSEL_ITER)} if tried else minimize_options, runs)
+    dense = scene.vessel is None or fits_memory(form.model.n, "reduced")
+    if tried and not res.success and dense:
+        form, res = _solve_in(scene, options, "reduced", minimize_options, runs)
+    first, message = form, None
+    answer, fallback = first, None
+    if options.hessian == "exact" and res.status in FALLBACK_STATUSES and not dense:
+        message = (f"{res.message} (no {FALLBACK} retry: the dense program of bar angles needs about "
+                   f"{program_bytes(form.model.n, 'reduced') / 2**30:.1f} GiB, more than the memory available)")
+    elif options.hessian == "exact" and res.status in FALLBACK_STATUSES:
         # Newton–SQP can stall where the exact Lagrangian Hessian is indefinite on the constraints' null space at
         # poor multiplier estimates (a nearly taut stretch between two points); the paper's damped BFGS, started
         # from the exact energy Hessian, does not depend on them: solve again from the same start
@@ -120,6 +146,7 @@ def rounds(form: Formulation, hessian: str, multipliers0: Any, options: dict[str
         args = form.arguments()
         if hessian == "exact":
             args["hess"] = form.hess
+            args.update(form.layout.newton_options(form.blocks))
         if multipliers0 is not None:
             args["multipliers0"] = multipliers0
         res = sqp.minimize(**args, **options)

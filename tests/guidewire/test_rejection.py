@@ -62,9 +62,11 @@ def test_a_violation_is_always_named_by_its_block_even_when_not_a_number():
 
 @pytest.mark.parametrize("available_gib", [0.5, 4.0, 23.0])
 def test_a_vessel_too_large_for_memory_is_refused_before_any_work(monkeypatch, capsys, available_gib):
-    """With ``available_gib`` of memory, the largest bar count the dense program fits is refused one bar above it
-    (ValueError giving the memory needed and the bars that fit) and accepted at it; the command line says the same
-    in one line with exit status 2, no traceback, in well under a second."""
+    """With ``available_gib`` of memory, the largest bar count each program of a vessel scene fits (the dense one of
+    bar angles: ``DENSE_COPIES n²`` doubles; the full space: ``FULL_BYTES_PER_BAR`` a bar, what ``"auto"`` takes
+    above ``FULL_SPACE_BARS``) is refused one bar above it (ValueError giving the memory needed and the bars that
+    fit) and accepted at it; the command line says the same in one line with exit status 2, no traceback, in well
+    under a second."""
     import importlib
     import time
 
@@ -75,11 +77,16 @@ def test_a_vessel_too_large_for_memory_is_refused_before_any_work(monkeypatch, c
     monkeypatch.setattr(front, "available_memory", lambda: int(available_gib * 2**30))
     scene = guidewire.load_scene(str(VESSELS / "bend.toml"))
     fits = int((available_gib * 2**30 / (front.DENSE_COPIES * 8.0)) ** 0.5)
-    front.check_memory(scene, fits)
-    with pytest.raises(ValueError, match=rf"{fits + 1} bars needs about .* GiB .* use at most {fits} bars"):
-        front.check_memory(scene, fits + 1)
+    front.check_memory(scene, fits, "reduced")
+    with pytest.raises(ValueError, match=rf"{fits + 1} bars needs about .* GiB .* dense .* use at most {fits} bars"):
+        front.check_memory(scene, fits + 1, "reduced")
+    full = int(available_gib * 2**30 / front.FULL_BYTES_PER_BAR)
+    assert full > front.FULL_SPACE_BARS
+    front.check_memory(scene, full)
+    with pytest.raises(ValueError, match=rf"{full + 1} bars needs about .* GiB .* full-space .* use at most {full} "):
+        front.check_memory(scene, full + 1)
     started = time.perf_counter()
-    code = cli.main(["solve", str(VESSELS / "bend.toml"), "--bars", str(4 * fits)])
+    code = cli.main(["solve", str(VESSELS / "bend.toml"), "--bars", str(4 * full)])
     err = capsys.readouterr().err
     assert code == 2 and "GiB" in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
     assert time.perf_counter() - started < 2.0

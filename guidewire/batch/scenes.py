@@ -251,6 +251,7 @@ def run_tasks(tasks: Sequence[tuple[Callable[..., Any], tuple[Any, ...], range]]
     pool = default_executor(workers) if own else executor
     bar = _progress_bar(len(scenes), progress)
     futures: dict[Future[Any], range] = {}
+    stopped = False
     try:
         with _main_unseen() if own else contextlib.nullcontext():  # (the workers start during the submits)
             for fn, args, indices in tasks:
@@ -264,13 +265,14 @@ def run_tasks(tasks: Sequence[tuple[Callable[..., Any], tuple[Any, ...], range]]
     except BaseException:  # (KeyboardInterrupt, SIGTERM made one by the CLI, an error of the caller's)
         if own:
             _terminate(pool)
+            stopped = True
         raise
     finally:
         for future in futures:
             future.cancel()
         if bar is not None:
             bar.close()
-        if own:
+        if own and not stopped:  # (a stopped pool's workers are reaped already: waiting on its manager could hang)
             pool.shutdown(wait=True, cancel_futures=True)
 
 

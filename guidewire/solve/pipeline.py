@@ -97,11 +97,11 @@ def solve_once(scene: Scene, options: SolveOptions, start: float) -> Solution:
     tried = options.layout == "auto" and layout == "full" and scene.vessel is not None
     form, res = _solve_in(scene, options, layout, {**minimize_options, "max_iter": min(
         options.max_iter, FULL_VESSEL_ITER)} if tried else minimize_options, runs)
-    dense = scene.vessel is None or fits_memory(form.model.n, "reduced")
-    if tried and not res.success and dense:
+    failed = not res.success
+    dense = not failed or scene.vessel is None or fits_memory(form.model.n, "reduced")
+    if tried and failed and dense:
         form, res = _solve_in(scene, options, "reduced", minimize_options, runs)
-    first, message = form, None
-    answer, fallback = first, None
+    answer, fallback, message = form, None, None
     if options.hessian == "exact" and res.status in FALLBACK_STATUSES and not dense:
         message = (f"{res.message} (no {FALLBACK} retry: the dense program of bar angles needs about "
                    f"{program_bytes(form.model.n, 'reduced') / 2**30:.1f} GiB, more than the memory available)")

@@ -50,10 +50,17 @@ def newton_multipliers(problem: Problem, st: State, qp: QPStep, rows: Array, wei
     ``W d + g - J^T lam' - A^T lam_lin' - z = 0`` for ``lam' = lam - weight (C d)`` on the rows of ``C``: the step is
     Newton's and so are these multipliers, whereas ``lam`` itself is off by ``weight`` times the residual of those
     rows. (Near a solution the corrected ones are exact to second order, so the KKT test can use them at the new
-    point.)"""
+    point.)
+
+    Only the rows the QP kept are corrected: the equalities and the inequalities with a nonzero QP multiplier. An
+    inequality of ``C`` that the QP released keeps its zero multiplier: its ``-weight (C d)`` is no contact force, and
+    carrying it would keep the row in the next ``C`` (:func:`al_rows`) for ever, its term then holding the iterates
+    near a wall they are leaving (an insertion step warm-started with the last step's multipliers crawled over
+    ~100 iterations at a linear rate so)."""
     lam_nl = qp.lam_nl.copy()
     if rows.size:
-        lam_nl[rows] -= weight * np.asarray(st.der.J[rows] @ qp.d).ravel()
+        kept = rows[problem.nonlinear.is_eq[rows] | (qp.lam_nl[rows] != 0)]
+        lam_nl[kept] -= weight * np.asarray(st.der.J[kept] @ qp.d).ravel()
     lam_lin = qp.lam_lin.copy()
     eq = problem.linear.eq
     if eq.size:

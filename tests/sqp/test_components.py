@@ -325,6 +325,42 @@ def test_newton_multipliers_undo_the_augmented_lagrangian_term():
     assert abs(fixed.lam_nl[0] - qp.lam_nl[0]) > 1e-3  # a real correction, not a no-op
 
 
+def test_newton_multipliers_leave_a_row_the_qp_released_at_zero():
+    """An inequality in ``C`` (it carried a multiplier, e.g. a warm start's) that the QP leaves inactive gets no
+    multiplier from the correction: ``-rho C_i d`` is no force, and carrying it would keep the row in the next ``C``
+    (:func:`~sqp.multipliers.al_rows`) for ever. The rows the QP kept are corrected as before."""
+    from sqp.build import build_problem
+    from sqp.hessian import convexify
+    from sqp.iterate import Evaluator, State
+    from sqp.multipliers import al_rows, equality_rows, newton_multipliers
+    from sqp.options import Options
+    from sqp.step import qp_step
+
+    eq = {"type": "eq", "fun": lambda x: np.array([x @ x - 2]), "jac": lambda x: 2 * x[None, :],
+          "hess": lambda x, v: 2 * v[0] * np.eye(2)}
+    ineq = {"type": "ineq", "fun": lambda x: np.array([4 - x[0] ** 2]), "jac": lambda x: np.array([[-2 * x[0], 0]]),
+            "hess": lambda x, v: -2 * v[0] * np.diag([1.0, 0.0])}
+    for start, stale in (([1.2, -0.7], 0.3), ([0.8, -1.3], 1.0), ([1.5, -0.4], 0.05)):
+        # (W = [[1 + 2 stale, 2], [2, 1]]: indefinite for stale < 1.5, so the term is needed)
+        problem = build_problem(lambda x: 2 * x[0] * x[1], start, lambda x: 2 * np.array([x[1], x[0]]), None,
+                                [eq, ineq], (), lambda x: np.array([[0.0, 2.0], [2.0, 0.0]]))
+        ev = Evaluator(problem)
+        pt = ev.point(problem.x0)
+        der = ev.derivatives(pt)
+        lam = np.array([-0.5, stale])  # (the inequality, 4 - x0^2 >= 0, is far from active)
+        rows = al_rows(problem, lam)
+        assert rows.tolist() == [0, 1]
+        B, _, rho = convexify(ev.lagrangian_hessian(pt.x, lam), 0.0, equality_rows(problem, der.J, rows), 0.0)
+        assert rho > 0.0
+        st = State(pt=pt, der=der, B=B, mu=np.zeros(2))
+        qp, _, _ = qp_step(problem, Options().for_problem(problem), st, 0.0)
+        assert qp.found and qp.lam_nl[1] == 0.0 and abs(der.J[1] @ qp.d) > 1e-3  # released, and the row moved
+        fixed = newton_multipliers(problem, st, qp, rows, rho)
+        assert fixed.lam_nl[1] == 0.0
+        assert fixed.lam_nl[0] == pytest.approx(qp.lam_nl[0] - rho * float(der.J[0] @ qp.d), rel=1e-12)
+        assert al_rows(problem, fixed.lam_nl).tolist() == [0]
+
+
 def test_newton_sqp_ends_without_a_confirming_qp_when_the_step_already_converged():
     """Near a solution the last QP's multipliers pass the KKT test at the new point with the wide margin: the
     solve stops there (one Hessian per iteration, not one more) with residuals far below tol."""

@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 from sqp.hessian import convexify, damped_bfgs_update, initial_scaling, shifted_augmented
 from sqp.iterate import Derivatives, Evaluator, State
 from sqp.kkt import inf_norm
-from sqp.multipliers import al_rows, equality_rows, newton_multipliers, nonlinear_lagrangian_gradient
+from sqp.multipliers import al_rows, equality_rows, held_rows, newton_multipliers, nonlinear_lagrangian_gradient
 from sqp.problem import Problem
 from sqp.structured import FactoredHessian
 from sqp.subproblem import QPStep
@@ -116,6 +116,7 @@ class ConvexifiedExact:
         # W + r0 C^T C is tested first (one factorisation less when W is indefinite, the same answer)
         self.definite = not np.any(self.lam0)
         self.rows: Array = np.zeros(0, dtype=np.intp)
+        self.held: Array | None = None  # (the rows the last QP found held, :func:`~sqp.multipliers.held_rows`)
         self.factored: FactoredHessian | None = None
 
     def initial(self, st: State) -> Any:
@@ -124,7 +125,12 @@ class ConvexifiedExact:
 
     def model(self, ev: Evaluator, st: State) -> Any:
         lam = st.qp.lam_nl if st.qp is not None else self.lam0
-        self.rows = al_rows(self.problem, lam) if self.inequalities else self.problem.nonlinear.eq
+        if not self.inequalities:
+            self.rows = self.problem.nonlinear.eq
+        elif st.qp is not None and self.held is not None:
+            self.rows = self.held
+        else:  # (the start's multipliers, or an elastic QP's)
+            self.rows = al_rows(self.problem, lam)
         W = ev.lagrangian_hessian(st.pt.x, lam)
         if ev.hessian_nonfinite is not None:
             return None
@@ -149,8 +155,14 @@ class ConvexifiedExact:
             self.shift, self.weight = self.factored.convexification
             self.definite = self.shift == 0.0 and self.weight == 0.0
             self.factored = None
-        if self.weight > 0.0 and qp.found and not qp.elastic:
-            return newton_multipliers(self.problem, st, qp, self.rows, self.weight)
+        if not qp.found:
+            return qp
+        if qp.elastic:
+            self.held = None
+            return qp
+        self.held = held_rows(self.problem, st, qp) if self.inequalities else self.problem.nonlinear.eq
+        if self.weight > 0.0:
+            return newton_multipliers(self.problem, st, qp, self.rows, self.weight, self.held)
         return qp
 
     def update(self, st: State, der: Derivatives, qp: QPStep, s: Array, first: bool) -> tuple[Any, bool]:

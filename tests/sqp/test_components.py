@@ -299,7 +299,7 @@ def test_newton_multipliers_undo_the_augmented_lagrangian_term():
     from sqp.build import build_problem
     from sqp.hessian import convexify
     from sqp.iterate import Evaluator, State
-    from sqp.multipliers import al_rows, equality_rows, newton_multipliers
+    from sqp.multipliers import al_rows, equality_rows, held_rows, newton_multipliers
     from sqp.options import Options
     from sqp.step import qp_step
 
@@ -320,7 +320,7 @@ def test_newton_multipliers_undo_the_augmented_lagrangian_term():
     qp, _, _ = qp_step(problem, Options().for_problem(problem), st, 0.0)
     assert qp.found and not qp.elastic
     np.testing.assert_allclose(B @ qp.d + der.g - der.J.T @ qp.lam_nl, 0.0, atol=1e-10)
-    fixed = newton_multipliers(problem, st, qp, rows, rho)
+    fixed = newton_multipliers(problem, st, qp, rows, rho, held_rows(problem, st, qp))
     np.testing.assert_allclose(W @ qp.d + der.g - der.J.T @ fixed.lam_nl, 0.0, atol=1e-10)
     assert abs(fixed.lam_nl[0] - qp.lam_nl[0]) > 1e-3  # a real correction, not a no-op
 
@@ -332,7 +332,7 @@ def test_newton_multipliers_leave_a_row_the_qp_released_at_zero():
     from sqp.build import build_problem
     from sqp.hessian import convexify
     from sqp.iterate import Evaluator, State
-    from sqp.multipliers import al_rows, equality_rows, newton_multipliers
+    from sqp.multipliers import al_rows, equality_rows, held_rows, newton_multipliers
     from sqp.options import Options
     from sqp.step import qp_step
 
@@ -355,10 +355,35 @@ def test_newton_multipliers_leave_a_row_the_qp_released_at_zero():
         st = State(pt=pt, der=der, B=B, mu=np.zeros(2))
         qp, _, _ = qp_step(problem, Options().for_problem(problem), st, 0.0)
         assert qp.found and qp.lam_nl[1] == 0.0 and abs(der.J[1] @ qp.d) > 1e-3  # released, and the row moved
-        fixed = newton_multipliers(problem, st, qp, rows, rho)
+        fixed = newton_multipliers(problem, st, qp, rows, rho, held_rows(problem, st, qp))
         assert fixed.lam_nl[1] == 0.0
         assert fixed.lam_nl[0] == pytest.approx(qp.lam_nl[0] - rho * float(der.J[0] @ qp.d), rel=1e-12)
         assert al_rows(problem, fixed.lam_nl).tolist() == [0]
+
+
+def test_held_rows_are_the_rows_the_qp_step_keeps_at_a_bound():
+    """An interior-point QP leaves tiny multipliers on inactive rows: a row is held only when its linearisation sits
+    at the bound its multiplier loads; two-sided rows by the multiplier's sign; equalities always."""
+    from sqp.build import build_problem
+    from sqp.iterate import Evaluator, State
+    from sqp.multipliers import held_rows
+    from sqp.subproblem import QPStep
+
+    rows = [{"type": "eq", "fun": lambda x: np.array([x[0] + x[1] - 1.0]), "jac": lambda x: np.array([[1.0, 1.0]])},
+            {"type": "ineq", "fun": lambda x: np.array([x[0], x[1], 2.0 - x[0]]),
+             "jac": lambda x: np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0]])}]
+    for x0, d in (([0.25, 0.75], [-0.25, 0.25]), ([1.5, -0.5], [0.5, -0.5]), ([0.4, 0.6], [0.1, -0.1])):
+        problem = build_problem(lambda x: x @ x, x0, lambda x: 2 * x, None, rows, ())
+        ev = Evaluator(problem)
+        pt = ev.point(problem.x0)
+        st = State(pt=pt, der=ev.derivatives(pt), B=np.eye(2), mu=np.zeros(4))
+        lin = pt.c + st.der.J @ np.asarray(d)
+        lam = np.where(np.abs(lin) < 1e-12, 0.7, 1e-11)  # loaded where at the bound, IPM noise elsewhere
+        lam[0] = -0.3  # (the equality: held whatever its multiplier)
+        qp = QPStep(d=np.asarray(d, float), lam_nl=lam, lam_lin=np.zeros(0), z=np.zeros(0), found=True,
+                    elastic=False, slack=0.0, status="optimal")
+        expected = [0] + [1 + i for i in range(3) if abs(lin[1 + i]) < 1e-12]
+        assert held_rows(problem, st, qp).tolist() == expected
 
 
 def test_newton_sqp_ends_without_a_confirming_qp_when_the_step_already_converged():

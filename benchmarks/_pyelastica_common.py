@@ -51,8 +51,9 @@ def simulator() -> Any:
     return Simulator()
 
 
-def time_step(dl: float, radius: float, density: float, youngs: float, shear: float, stiffen: float = 1.0) -> float:
-    """``CFL / √(1/dt_a² + 1/dt_s²)``: ``dt_a = dl √(ρ / (K E))`` (the axial wave across an element) and
+def time_step(dl: float, radius: float, density: float, youngs: float, shear: float, stiffen: float = 1.0,
+              cfl: float = CFL) -> float:
+    """``cfl / √(1/dt_a² + 1/dt_s²)``: ``dt_a = dl √(ρ / (K E))`` (the axial wave across an element) and
     ``dt_s = r √(ρ / (K α G))`` (an element's rotation, rotary inertia ρ I, against its shear stiffness).
 
     Parameters
@@ -63,10 +64,12 @@ def time_step(dl: float, radius: float, density: float, youngs: float, shear: fl
         t/mm³, MPa, MPa.
     stiffen : float
         The factor K on PyElastica's stretch and shear stiffness.
+    cfl : float
+        The fraction of the estimate (:data:`CFL` by default).
     """
     axial = dl * math.sqrt(density / (stiffen * youngs))
     rotation = radius * math.sqrt(density / (stiffen * ALPHA_SHEAR * shear))
-    return CFL / math.hypot(1.0 / axial, 1.0 / rotation)
+    return cfl / math.hypot(1.0 / axial, 1.0 / rotation)
 
 
 @dataclass(frozen=True)

@@ -37,7 +37,8 @@ every 0.05 mm (a polyline: the chord sagitta is 3e-5 mm; the nearest segment sea
 of them at the first call), and a node farther than ``R − r`` by ``gap > 0`` pushed back by ``k · gap + c · v_n``
 along the normal (never pulled), ``c = 0.25 · 2 √(k m_node)``; two stiffnesses k = 100 and 10 000 N/mm (penetration
 ≈ F / k). Relaxed with the ``AnalyticalLinearDamper`` (2 ω₁, ω₁ = 1.875² √(EI / (ρ A L⁴)) = 400 rad/s) and
-``PositionVerlet``, ``dt = min(the rod's stability limit of pyelastica.py, √(m_min / k))`` (the contact spring of the
+``PositionVerlet``, ``dt = min(0.7 × the rod's stability estimate of pyelastica.py (whose 0.9 diverged in case (b) at
+n = 50), √(m_min / k))`` (the contact spring of the
 lightest node; never the smaller one here, so both k run with the same dt), stopped when the largest node speed
 < 1e-4 mm · ω₁ and the tip moved < 1e-4 mm over 1/ω₁ (checked every 500 steps). Its time: building,
 ``finalize`` and stepping.
@@ -104,6 +105,9 @@ POLYLINE_SPACING = 0.05
 WINDOW = 8
 #: Damping of the penalty: this fraction of the critical damping 2 √(k m) of each node on the contact spring.
 CONTACT_ZETA = 0.25
+#: PyElastica's time step as a fraction of the rod's stable estimate: pyelastica.py's 0.9 diverged in case (b) at
+#: n = 50 within 3 500 steps (k = 100 N/mm); 0.7 settles every row.
+TUBE_CFL = 0.7
 #: The time step also keeps ω_c dt ≤ CONTACT_CFL, ω_c = √(k / m) of the lightest node on the contact spring.
 CONTACT_CFL = 1.0
 
@@ -289,6 +293,8 @@ def rest_curvature(n: int) -> np.ndarray:
 def lumen_violation(tube: Any, nodes: np.ndarray) -> float:
     """The deepest node outside the lumen shrunk by the wire's radius (mm, 0 when all are inside), on the exact
     tube (its spline, not the polyline)."""
+    if not np.all(np.isfinite(nodes)):
+        return math.nan
     clearance, _ = tube.clearance(nodes, DIAMETER / 2.0)
     return float(max(0.0, -clearance.min()))
 
@@ -330,7 +336,7 @@ def run_pyelastica(n: int, case: Case, tube: Any, stiffness: float) -> dict[str,
     if case.j_tip:
         rod.rest_kappa[...] = rest_curvature(n)
     masses = rod.mass.copy()
-    dt = min(P.time_step(LENGTH / n, r, DENSITY, YOUNGS, SHEAR),
+    dt = min(P.time_step(LENGTH / n, r, DENSITY, YOUNGS, SHEAR, cfl=TUBE_CFL),
              CONTACT_CFL * math.sqrt(float(masses[1:].min()) / stiffness))
     sim = P.simulator()
     sim.append(rod)
@@ -345,7 +351,7 @@ def run_pyelastica(n: int, case: Case, tube: Any, stiffness: float) -> dict[str,
     run = P.relax(sim, rod, dt, omega)
     wall = time.perf_counter() - start
     final = rod.position_collection.T.copy()
-    distance, _ = nearest_on_polyline(final, polyline)
+    distance, _ = nearest_on_polyline(np.nan_to_num(final), polyline)
     gap = distance - (radius - r)
     contacts = [(int(i), float(stiffness * gap[i])) for i in np.flatnonzero(gap > 0.0) if i > 0]
     twist = rod.kappa[2] - rod.rest_kappa[2]
@@ -430,8 +436,9 @@ def report(rows: list[dict[str, Any]], repeats: int) -> list[str]:
              f"the centreline polyline (sampled every {POLYLINE_SPACING} mm, nearest segment searched ± {WINDOW} "
              f"around the last) pushed back by k·gap + c·v_n, c = {CONTACT_ZETA} × 2√(k m_node); "
              f"AnalyticalLinearDamper {P.DAMPING_OVER_OMEGA:g} ω₁ = {P.DAMPING_OVER_OMEGA * omega:.0f} 1/s "
-             f"(ω₁ = {omega:.0f} rad/s, the straight cantilever's first mode); PositionVerlet; dt = min(the rod's "
-             f"limit (pyelastica.md), {CONTACT_CFL:g} · √(m_min / k)); stopped when the largest node speed < "
+             f"(ω₁ = {omega:.0f} rad/s, the straight cantilever's first mode); PositionVerlet; dt = min({TUBE_CFL} × "
+             f"the rod's estimate (pyelastica.md), {CONTACT_CFL:g} · √(m_min / k)); stopped when the largest node "
+             f"speed < "
              f"{P.VELOCITY_TOL_MM:g} mm · ω₁ and the tip moved < {P.TIP_TOL_MM:g} mm over 1/ω₁. Its time includes "
              "building and finalize; numba's kernels are cached on disk (the first run of a session pays their "
              "loading, in 'setup').", "",
@@ -458,6 +465,23 @@ def report(rows: list[dict[str, Any]], repeats: int) -> list[str]:
               x["pe_contacts"]]
              for x in rows]
     lines += T.markdown_table(header, table)
+    lines += ["", "## Summary", ""]
+    for name in dict.fromkeys(x["case"] for x in rows):
+        sub = [x for x in rows if x["case"] == name]
+
+        def span(key: str, rows_: list[dict[str, Any]] = sub) -> str:
+            values = [x[key] for x in rows_]
+            return f"{T.cell(min(values), 2)}–{T.cell(max(values), 2)}"
+
+        finest = [x for x in sub if x["n"] == max(y["n"] for y in sub)]
+        violations = ", ".join(f"{T.cell(x['pe_violation_mm'], 2)} mm at k = {x['stiffness']:g}" for x in finest)
+        lines.append(f"- {name}: PyElastica takes {span('pe_s')} s ({span('pe_steps')} steps) to equilibrium, "
+                     f"ours {span('ours_ms')} ms cold ({span('ours_iterations')} SQP iterations) and "
+                     f"{span('ours_insert_ms')} ms by insertion: PyElastica / ours = {span('time_ratio')} (cold), "
+                     f"{span('time_ratio_insertion')} (insertion). Shape difference at n = {finest[0]['n']}: largest "
+                     f"{span('diff_max_mm', finest)} mm, mean {span('diff_mean_mm', finest)} mm; PyElastica's largest "
+                     f"lumen violation {violations}"
+                     f" (ours {T.cell(max(x['ours_violation_mm'] for x in sub), 2)} mm).")
     failed = [(x["case"][:2], x["n"], x["stiffness"]) for x in rows
               if not (x["pe_success"] and x["ours_success"] and x["ours_insert_success"])]
     if failed:

@@ -57,9 +57,9 @@ state of damped dynamics (the same equilibrium here: both start from the same sh
 Conclusion (``results/pyelastica_tube.md``, median of 3): both codes find the same equilibrium. At n = 100 the
 shapes differ by at most 0.043–0.046 mm (a) and 0.031–0.032 mm (b), mean 0.02 mm; PyElastica's distance to our
 n = 200 shape (0.04 mm) is mostly its own discretisation (its rigid clamp element; ours at n = 100 is within 0.001 mm)
-and its stretch (strain 2e-4). Both find the same contact nodes with the tip force equal to 1 % (1.31–1.41 N); the
+and its stretch (strain 2e-4). Both find the same contact nodes with the tip force within 2 % (1.30–1.41 N); the
 first contact, near the clamp, differs most (0.25 against 0.11–0.22 N: PyElastica's rigid first element). Energies
-agree to 1 % (case b twist energy 2.53 against 2.51–2.52 N·mm). PyElastica's nodes sit 0.014 mm outside the lumen
+agree to 1.4 % (case b twist energy 2.53 against 2.51–2.52 N·mm). PyElastica's nodes sit 0.014 mm outside the lumen
 at k = 100 N/mm and 0.00014 mm at k = 10 000 (F/k; ours: < 1e-10 mm), and k barely changes its time (the rod's own
 time step binds). Time to equilibrium: PyElastica 3.1–13 s (117 500–186 000 steps); ours cold 57 ms–1.2 s in
 8–44 SQP iterations except case (a) at n = 25, 12 s in 386 iterations (PyElastica is 4× faster there), so

@@ -26,7 +26,8 @@ against its shear stiffness: independent of n, the binding limit at n = 25), CFL
 50, 100; ``min(dt_a, dt_s)`` in place of the combination diverged at n = 100, where the element's bending spring
 adds to its rotational stiffness). Stopping rule, checked every
 :data:`CHECK_STEPS` steps: the largest node speed below ``1e-4 mm · ω₁`` and the tip moved less than 1e-4 mm over
-the last ``1/ω₁`` of simulated time; a run not settled after :data:`MAX_PERIODS` ``/ω₁`` is reported as such.
+the last ``1/ω₁`` of simulated time; a run not settled after :data:`MAX_PERIODS` ``/ω₁`` is reported as such (these
+settings and the loop are shared with ``pyelastica_tube.py`` in ``_pyelastica_common.py``).
 
 Measured per (code, n): tip error and largest and mean node error against the elastica (mm); for the pair at equal
 n the largest node distance and the tip distance between the two (mm); time to equilibrium (wall time, median of
@@ -49,14 +50,13 @@ Usage: ``python benchmarks/pyelastica.py [--quick] [--repeats K] [--out DIR] [--
 from __future__ import annotations
 
 import math
-import statistics
-import sys
 import time
 from dataclasses import dataclass
 from typing import Any
 
 import _arguments as A
 import _environment as E  # first: pins BLAS to one thread before numpy loads
+import _pyelastica_common as P
 import _tables as T
 import numpy as np
 from scipy.integrate import solve_bvp
@@ -64,26 +64,16 @@ from scipy.integrate import solve_bvp
 from guidewire import Wire
 from guidewire.solve3d import Base3D, Scene3D, solve3d
 
-try:
-    import elastica as ea
-except ImportError:  # pragma: no cover - exercised only without the bench extra
-    ea = None
-
 LENGTH, DIAMETER, YOUNGS, POISSON = 100.0, 0.89, 80000.0, 0.33  # mm, mm, MPa, -
 SHEAR = YOUNGS / (2.0 * (1.0 + POISSON))  # MPa
 DENSITY = 6.45e-9  # t/mm³ (6.45e-3 g/mm³): with mm, N and s the mass unit is the tonne
 TANGENT = np.array([1.0, 0.0, 0.0])
 NORMAL = np.array([0.0, 0.0, 1.0])  # d1 at the clamp (both codes)
 FORCE = np.array([-0.15, 0.40, 0.30])  # N
-#: PyElastica's time step as a fraction of the stable estimate (module docstring).
-CFL = 0.9
-#: Damping constant over ω₁.
-DAMPING_OVER_OMEGA = 2.0
-#: Stopping rule: node speed below VELOCITY_TOL_MM · ω₁, tip moved less than TIP_TOL_MM over 1/ω₁.
-VELOCITY_TOL_MM, TIP_TOL_MM = 1e-4, 1e-4
-CHECK_STEPS = 500
-MAX_PERIODS = 60.0
-ALPHA_SHEAR = 27.0 / 28.0  # PyElastica's shear correction factor
+ea = P.ea
+CFL, DAMPING_OVER_OMEGA, ALPHA_SHEAR = P.CFL, P.DAMPING_OVER_OMEGA, P.ALPHA_SHEAR
+VELOCITY_TOL_MM, TIP_TOL_MM, CHECK_STEPS, MAX_PERIODS = P.VELOCITY_TOL_MM, P.TIP_TOL_MM, P.CHECK_STEPS, P.MAX_PERIODS
+median_run = P.median_run
 
 
 def section() -> tuple[float, float, float]:
@@ -166,23 +156,16 @@ def run_ours(n: int) -> dict[str, Any]:
 
 def pyelastica_time_step(n: int, stiffen: float) -> float:
     r, _, _ = section()
-    dl = LENGTH / n
-    axial = dl * math.sqrt(DENSITY / (stiffen * YOUNGS))
-    shear = r * math.sqrt(DENSITY / (stiffen * ALPHA_SHEAR * SHEAR))
-    return CFL / math.hypot(1.0 / axial, 1.0 / shear)
+    return P.time_step(LENGTH / n, r, DENSITY, YOUNGS, SHEAR, stiffen)
 
 
 def run_pyelastica(n: int, stiffen: float = 1.0) -> dict[str, Any]:
     """Build, damp and step PyElastica's rod until it settles (module docstring)."""
     start = time.perf_counter()
-
-    class Simulator(ea.BaseSystemCollection, ea.Constraints, ea.Forcing, ea.Damping):
-        pass
-
     r, _, _ = section()
     omega = first_mode()
     dt = pyelastica_time_step(n, stiffen)
-    sim = Simulator()
+    sim = P.simulator()
     rod = ea.CosseratRod.straight_rod(n, np.zeros(3), TANGENT.copy(), NORMAL.copy(), LENGTH, r, DENSITY,
                                       youngs_modulus=YOUNGS, shear_modulus=SHEAR)
     rod.shear_matrix[...] *= stiffen  # diag(α G A, α G A, E A) per element
@@ -192,40 +175,12 @@ def run_pyelastica(n: int, stiffen: float = 1.0) -> dict[str, Any]:
     sim.dampen(rod).using(ea.AnalyticalLinearDamper, uniform_damping_constant=DAMPING_OVER_OMEGA * omega,
                           time_step=dt)
     sim.finalize()
-    stepper = ea.PositionVerlet()
     setup = time.perf_counter() - start
-
-    window = max(1, round(1.0 / (omega * dt) / CHECK_STEPS))  # checks per 1/ω₁
-    max_steps = int(MAX_PERIODS / (omega * dt))
-    tips: list[np.ndarray] = []
-    t, steps, settled = np.float64(0.0), 0, False
-    while steps < max_steps:
-        for _ in range(CHECK_STEPS):
-            t = stepper.step(sim, t, dt)
-        steps += CHECK_STEPS
-        tip = rod.position_collection[:, -1].copy()
-        if not np.all(np.isfinite(tip)):
-            break
-        tips.append(tip)
-        speed = float(np.max(np.linalg.norm(rod.velocity_collection, axis=0)))
-        if (speed < VELOCITY_TOL_MM * omega and len(tips) > window
-                and np.linalg.norm(tip - tips[-1 - window]) < TIP_TOL_MM):
-            settled = True
-            break
+    run = P.relax(sim, rod, dt, omega)
     wall = time.perf_counter() - start
-    return {"nodes": rod.position_collection.T.copy(), "success": settled, "steps": steps, "wall_s": wall,
-            "setup_s": setup, "dt_s": dt, "sim_time_s": float(t), "max_stretch": float(np.max(np.abs(rod.dilatation
-                                                                                                  - 1.0)))}
-
-
-def median_run(fn: Any, repeats: int, *args: Any) -> tuple[dict[str, Any], list[float]]:
-    runs = [fn(*args) for _ in range(repeats)]
-    walls = [r["wall_s"] for r in runs]
-    out = dict(runs[0])
-    out["wall_s"] = statistics.median(walls)
-    if "solve_s" in out:
-        out["solve_s"] = statistics.median(r["solve_s"] for r in runs)
-    return out, walls
+    return {"nodes": rod.position_collection.T.copy(), "success": run.settled, "steps": run.steps, "wall_s": wall,
+            "setup_s": setup, "dt_s": dt, "sim_time_s": run.time,
+            "max_stretch": float(np.max(np.abs(rod.dilatation - 1.0)))}
 
 
 def compare(quick: bool, repeats: int, stiffen_row: float | None) -> list[dict[str, Any]]:
@@ -321,9 +276,7 @@ def main() -> None:
                     help="factor on PyElastica's shear/stretch stiffness for the extra n = 25 row of the full run "
                          "(0: no such row)")
     args = A.parse(ap)
-    if ea is None:
-        sys.exit("benchmarks/pyelastica.py needs PyElastica: pip install pyelastica (or the bench extra: "
-                 "pip install -e '.[bench]').")
+    P.require("benchmarks/pyelastica.py")
     with E.one_thread():
         rows = compare(args.quick, args.repeats, args.stiffen or None)
     stem = T.output_stem(args.out, "pyelastica", args.quick)

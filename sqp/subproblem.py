@@ -24,6 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from sqp.active_set import guessed_qp
 from sqp.kkt import inf_norm
 from sqp.problem import Rows
 from sqp.qp_call import QP_RESIDUAL_TOL, Backends, solve_qp
@@ -127,6 +128,21 @@ def _vstack(blocks: list[Any], n: int) -> Any:
     return blocks[0] if len(blocks) == 1 else np.vstack(blocks)
 
 
+#: :func:`active_guess` counts a multiplier above this times ``max(1, largest multiplier)`` in size (an interior-point
+#: backend leaves tiny positive multipliers on the rows it does not hold).
+ACTIVE_MULTIPLIER = 1e-7
+
+
+def active_guess(nonlinear: Rows, linear: Rows, lam_nl: Array, lam_lin: Array) -> NDArray[np.bool_]:
+    """The inequality rows ``G d <= h`` of the QP (in :func:`_stack_rows`' order: per kind, the lower sides, then
+    the upper ones) that multipliers ``lam_nl``, ``lam_lin`` (engine convention) hold active: a positive multiplier
+    on a lower side, a negative one on an upper side, larger than :data:`ACTIVE_MULTIPLIER` relative."""
+    t = ACTIVE_MULTIPLIER * max(1.0, inf_norm(lam_nl) if lam_nl.size else 0.0,
+                                inf_norm(lam_lin) if lam_lin.size else 0.0)
+    return np.concatenate((lam_nl[nonlinear.lower] > t, lam_nl[nonlinear.upper] < -t,
+                           lam_lin[linear.lower] > t, lam_lin[linear.upper] < -t))
+
+
 def _row_multipliers(rows: Rows, y: Array, z: Array, where: tuple[int, ...]) -> Array:
     """Per-row multipliers in the engine convention from qpsolvers' ``y`` (equalities) and ``z`` (``G d <= h``)."""
     i_eq, i_lo, i_up = where
@@ -150,6 +166,7 @@ def solve_subproblem(
     backends: Backends,
     initvals: Array | None = None,
     elastic_penalty: float | None = None,
+    active: NDArray[np.bool_] | None = None,
 ) -> QPStep:
     """Solve the QP (Eqs. 9–10); with ``elastic_penalty`` solve its elastic relaxation instead.
 
@@ -171,20 +188,26 @@ def solve_subproblem(
         Warm start for the primal step.
     elastic_penalty : float, optional
         Price ``rho`` of a unit of slack; solves the elastic QP when given.
+    active : ndarray of bool, optional
+        The inequality rows guessed active (:func:`active_guess`): a QP with a sparse ``B``, inequality rows and no
+        bounds is first solved on that guess (:func:`sqp.active_set.guessed_qp`), the backends asked only when it
+        fails. Not used by the elastic QP.
     """
     n = g.size
     scale = max(1.0, inf_norm(g))
     if elastic_penalty is None:
-        return _solve_plain(B, g, nonlinear, linear, box_lo, box_hi, backends, initvals, scale)
+        return _solve_plain(B, g, nonlinear, linear, box_lo, box_hi, backends, initvals, scale, active)
     if needs_convexification(B):
         return _failed(n, nonlinear, linear, "indefinite")
     return _solve_elastic(B, g, nonlinear, linear, box_lo, box_hi, backends, initvals, elastic_penalty, scale)
 
 
 def _solve_plain(B: Any, g: Array, nonlinear: LinearisedRows, linear: LinearisedRows, box_lo: Array, box_hi: Array,
-                 backends: Backends, initvals: Array | None, scale: float) -> QPStep:
+                 backends: Backends, initvals: Array | None, scale: float,
+                 active: NDArray[np.bool_] | None = None) -> QPStep:
     """The QP itself (not elastic): an equality-only one by its KKT system directly (:func:`_equality_qp`, or the
-    structured solve of a sparse ``B``), any other, or one the direct solve refused, by the backends in turn."""
+    structured solve of a sparse ``B``), one with a guessed active set on that guess (:func:`guessed_qp`), any
+    other, or one the direct solves refused, by the backends in turn."""
     n = g.size
     has_box = bool(np.isfinite(box_lo).any() or np.isfinite(box_hi).any())
     E, e, G, h, where = _stack_rows([nonlinear, linear], n)
@@ -198,6 +221,13 @@ def _solve_plain(B: Any, g: Array, nonlinear: LinearisedRows, linear: Linearised
                           found=True, elastic=False, slack=0.0, status="kkt")
     if needs_convexification(B):
         return _failed(n, nonlinear, linear, "indefinite")
+    if active is not None and sp.issparse(B) and G.shape[0] and not has_box:
+        found = guessed_qp(B, g, E, e, G, h, active, scale)
+        if found is not None:
+            d, y, z = found
+            return QPStep(d=d, lam_nl=_row_multipliers(nonlinear.rows, y, z, where[0]),
+                          lam_lin=_row_multipliers(linear.rows, y, z, where[1]), z=np.zeros(n), found=True,
+                          elastic=False, slack=0.0, status="active set")
     sol, used = solve_qp(backends, B, g, G, h, E, e, box_lo if has_box else None, box_hi if has_box else None,
                        initvals, scale)
     if sol is None:

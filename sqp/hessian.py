@@ -340,17 +340,40 @@ def _accepted(B: Any, is_sparse: bool) -> Any | None:
     return CholeskyHessian.wrap(B, L)
 
 
+#: Widest band (``max |i - j|`` over the stored entries) for which a sparse matrix is tested by LAPACK's banded
+#: Cholesky (``dpbtrf``, O(n b²)) instead of SuperLU's unpivoted LU: on the guidewire's 3-D program (1200-1500
+#: variables, band 8-11) 0.05 ms against 0.6 ms. Both test the signs of the same pivots (Sylvester's law).
+BANDED_CHOLESKY_MAX = 32
+
+
 def _positive_definite(B: Any) -> bool:
-    """Whether the sparse symmetric ``B`` is positive definite: the pivots of its LU factorisation without pivoting
-    are all positive (Sylvester's law of inertia)."""
+    """Whether the sparse symmetric ``B`` is positive definite: its banded Cholesky factorisation succeeds (a band
+    up to :data:`BANDED_CHOLESKY_MAX`), else the pivots of its LU factorisation without pivoting are all positive
+    (Sylvester's law of inertia)."""
+    B = sp.csc_matrix(B)
+    if B.shape[0] and structured.bandwidth(B) <= BANDED_CHOLESKY_MAX:
+        return _banded_cholesky_succeeds(B)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            lu = spla.splu(sp.csc_matrix(B), permc_spec="NATURAL", diag_pivot_thresh=0.0,
-                           options={"SymmetricMode": True})
+            lu = spla.splu(B, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
     except RuntimeError:  # exactly singular
         return False
     return bool(np.all(lu.perm_r == np.arange(B.shape[0])) and np.all(lu.U.diagonal() > 0))
+
+
+def _banded_cholesky_succeeds(B: Any) -> bool:
+    """Whether LAPACK's banded Cholesky ``dpbtrf`` of the symmetric CSC ``B`` (its lower triangle in band storage)
+    finds every pivot positive and finite."""
+    n = B.shape[0]
+    col = np.repeat(np.arange(n), np.diff(B.indptr))
+    row = B.indices
+    lower = row >= col
+    kd = int(np.max(row[lower] - col[lower], initial=0))
+    ab = np.zeros((kd + 1, n))
+    np.add.at(ab, (row[lower] - col[lower], col[lower]), B.data[lower])  # (a non-canonical B may repeat entries)
+    factor, info = lapack.dpbtrf(ab, lower=1, overwrite_ab=1)
+    return bool(info == 0 and np.all(np.isfinite(factor[0])) and np.all(factor[0] > 0.0))
 
 
 class CholeskyHessian(np.ndarray):

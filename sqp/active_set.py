@@ -62,19 +62,21 @@ def banded_kkt(B: Any, g: Array, C: Any, c: Array) -> tuple[Array, Array] | None
     perm = interleaved_order(C, n)
     where = np.empty(size, dtype=np.intp)
     where[perm] = np.arange(size)
-    B = sp.csc_matrix(B)
-    B.sum_duplicates()  # (a no-op on a canonical matrix: every entry below is then placed once)
-    Bc, Cc = B.tocoo(), sp.coo_matrix(C)
-    r = where[np.concatenate((Bc.row, Cc.row + n, Cc.col))]
-    k = where[np.concatenate((Bc.col, Cc.col, Cc.row + n))]
-    data = np.concatenate((Bc.data, Cc.data, Cc.data))
+    B, C = sp.csc_matrix(B), sp.csr_matrix(C)
+    B.sum_duplicates()  # (no-ops on canonical matrices: every entry below is then placed once)
+    C.sum_duplicates()
+    # (coordinates straight from the compressed arrays: B's column and C's row of an entry is its pointer segment)
+    b_col = np.repeat(np.arange(n), np.diff(B.indptr))
+    c_row = np.repeat(np.arange(m), np.diff(C.indptr)) + n
+    r = where[np.concatenate((B.indices, c_row, C.indices))]
+    k = where[np.concatenate((b_col, C.indices, c_row))]
     if not r.size:
         return None
     kl, ku = int(np.max(r - k)), int(np.max(k - r))
     if max(kl, ku) > MAX_KKT_BANDWIDTH:
         return None
     ab = np.zeros((2 * kl + ku + 1, size))
-    ab[kl + ku + r - k, k] = data
+    ab.reshape(-1)[(kl + ku + r - k) * size + k] = np.concatenate((B.data, C.data, C.data))
     lu, piv, info = lapack.dgbtrf(ab, kl, ku, overwrite_ab=True)
     if info != 0:
         return None

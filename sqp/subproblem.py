@@ -81,8 +81,10 @@ def linearise(J: Array, c: Array, rows: Rows) -> LinearisedRows:
     return LinearisedRows(M=J, lo=rows.lb - c, hi=rows.ub - c, rows=rows)
 
 
-def _stack_rows(parts: list[LinearisedRows], n: int) -> tuple[Any, Array, Any, Array, list[tuple[int, ...]]]:
-    """Equalities ``E d = e`` and inequalities ``G d <= h`` of several row kinds, and where each kind's rows went."""
+def _stack_rows(parts: list[LinearisedRows], n: int,
+                compressed: str = "csc") -> tuple[Any, Array, Any, Array, list[tuple[int, ...]]]:
+    """Equalities ``E d = e`` and inequalities ``G d <= h`` of several row kinds, and where each kind's rows went
+    (sparse ones in the ``compressed`` format)."""
     E_list, e_list, G_list, h_list, where = [], [], [], [], []
     n_eq = n_in = 0
     for part in parts:  # (only the kinds of rows present: most problems have one or two)
@@ -100,17 +102,20 @@ def _stack_rows(parts: list[LinearisedRows], n: int) -> tuple[Any, Array, Any, A
         where.append((n_eq, n_in, n_in + r.lower.size))
         n_eq += r.eq.size
         n_in += r.lower.size + r.upper.size
-    E = _vstack(E_list, n)
-    G = _vstack(G_list, n)
+    E = _vstack(E_list, n, compressed)
+    G = _vstack(G_list, n, compressed)
     e = _concatenate(e_list)
     h = _concatenate(h_list)
     return E, e, G, h, where
 
 
 def _rows_of(M: Any, index: NDArray[np.intp]) -> Any:
-    """``M[index]``; a sparse ``M`` itself when ``index`` is all its rows (:func:`_vstack` copies it anyway)."""
+    """``M[index]``; a sparse ``M`` itself when ``index`` is all its rows (:func:`_vstack` copies it anyway), a
+    slice of it when ``index`` is a run of consecutive rows (the same matrix, without fancy indexing's work)."""
     if sp.issparse(M) and index.size == M.shape[0]:
         return M
+    if sp.issparse(M) and index.size and int(index[-1]) - int(index[0]) + 1 == index.size:
+        return M[int(index[0]) : int(index[-1]) + 1]
     return M[index]
 
 
@@ -119,12 +124,12 @@ def _concatenate(parts: list[Array]) -> Array:
     return parts[0] if len(parts) == 1 else np.concatenate(parts) if parts else np.zeros(0)
 
 
-def _vstack(blocks: list[Any], n: int) -> Any:
-    """The nonempty blocks stacked (a single one as it is); CSC when any is sparse."""
+def _vstack(blocks: list[Any], n: int, compressed: str = "csc") -> Any:
+    """The nonempty blocks stacked (a single one as it is); ``compressed`` (CSC or CSR) when any is sparse."""
     if not blocks:
         return np.zeros((0, n))
     if any(sp.issparse(b) for b in blocks):
-        return sp.vstack(blocks, format="csc")
+        return sp.vstack(blocks, format=compressed)
     return blocks[0] if len(blocks) == 1 else np.vstack(blocks)
 
 
@@ -210,7 +215,9 @@ def _solve_plain(B: Any, g: Array, nonlinear: LinearisedRows, linear: Linearised
     other, or one the direct solves refused, by the backends in turn."""
     n = g.size
     has_box = bool(np.isfinite(box_lo).any() or np.isfinite(box_hi).any())
-    E, e, G, h, where = _stack_rows([nonlinear, linear], n)
+    guess = active is not None and sp.issparse(B) and not has_box
+    # (CSR for the guessed active set's row picks; a backend asked after all gets the same matrices in CSC)
+    E, e, G, h, where = _stack_rows([nonlinear, linear], n, "csr" if guess else "csc")
     if not has_box and G.shape[0] == 0:
         step = _checked(B, g, E, e, scale, equality_kkt(B, g, E, e)) if sp.issparse(B) else _equality_qp(
             B, g, E, e, scale)
@@ -221,7 +228,7 @@ def _solve_plain(B: Any, g: Array, nonlinear: LinearisedRows, linear: Linearised
                           found=True, elastic=False, slack=0.0, status="kkt")
     if needs_convexification(B):
         return _failed(n, nonlinear, linear, "indefinite")
-    if active is not None and sp.issparse(B) and G.shape[0] and not has_box:
+    if guess and G.shape[0]:
         found = guessed_qp(B, g, E, e, G, h, active, scale)
         if found is not None:
             d, y, z = found

@@ -351,8 +351,18 @@ def _positive_definite(B: Any) -> bool:
     up to :data:`BANDED_CHOLESKY_MAX`), else the pivots of its LU factorisation without pivoting are all positive
     (Sylvester's law of inertia)."""
     B = sp.csc_matrix(B)
-    if B.shape[0] and structured.bandwidth(B) <= BANDED_CHOLESKY_MAX:
-        return _banded_cholesky_succeeds(B)
+    if not B.has_canonical_format:  # (every entry once: the band below is filled by assignment)
+        B = B.copy()
+        B.sum_duplicates()
+    n = B.shape[0]
+    col = np.repeat(np.arange(n), np.diff(B.indptr))
+    offset = B.indices - col
+    if n and int(np.max(np.abs(offset), initial=0)) <= BANDED_CHOLESKY_MAX:
+        lower = offset >= 0
+        ab = np.zeros((int(np.max(offset, initial=0)) + 1, n))
+        ab.reshape(-1)[offset[lower] * n + col[lower]] = B.data[lower]
+        factor, info = lapack.dpbtrf(ab, lower=1, overwrite_ab=1)
+        return bool(info == 0 and np.all(np.isfinite(factor[0])) and np.all(factor[0] > 0.0))
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -360,20 +370,6 @@ def _positive_definite(B: Any) -> bool:
     except RuntimeError:  # exactly singular
         return False
     return bool(np.all(lu.perm_r == np.arange(B.shape[0])) and np.all(lu.U.diagonal() > 0))
-
-
-def _banded_cholesky_succeeds(B: Any) -> bool:
-    """Whether LAPACK's banded Cholesky ``dpbtrf`` of the symmetric CSC ``B`` (its lower triangle in band storage)
-    finds every pivot positive and finite."""
-    n = B.shape[0]
-    col = np.repeat(np.arange(n), np.diff(B.indptr))
-    row = B.indices
-    lower = row >= col
-    kd = int(np.max(row[lower] - col[lower], initial=0))
-    ab = np.zeros((kd + 1, n))
-    np.add.at(ab, (row[lower] - col[lower], col[lower]), B.data[lower])  # (a non-canonical B may repeat entries)
-    factor, info = lapack.dpbtrf(ab, lower=1, overwrite_ab=1)
-    return bool(info == 0 and np.all(np.isfinite(factor[0])) and np.all(factor[0] > 0.0))
 
 
 class CholeskyHessian(np.ndarray):

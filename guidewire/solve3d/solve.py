@@ -121,7 +121,7 @@ def answer(program: Program, res: Any, iterations: int, rounds: int, seconds: fl
     q = program.frames(z)
     _, nodes_var = program.split(z)
     nodes = kinematics.nodes(program.base_point, program.lengths, q)  # the chain's own kinematics
-    parts = program.energy.evaluate(q, np.zeros((program.n, 4, 3)), np.zeros((program.n, 3)))
+    parts = program.parts(z)  # (the last point the solve evaluated: its energy, no new evaluation)
     twist = joint_twists(program.energy.base, q)
     forces: list[ContactForce3D] = []
     clamp_f, clamp_m = np.zeros(3), np.zeros(3)

@@ -33,6 +33,11 @@ Array = NDArray[np.float64]
 #: Solves of one QP on corrected guesses before the backends are asked.
 MAX_GUESSES = 3
 
+#: Solves of the first QP of a solve, whose guess is the caller's starting multipliers: the first step of a
+#: warm-started solve moves the most (on the guidewire's 3-D insertion steps the corrections of that guess wandered
+#: over dozens of rows and never settled), so one solve is tried before the backends.
+FIRST_GUESSES = 1
+
 #: Widest band (``max |i - j|`` over the KKT matrix's entries in :func:`interleaved_order`) solved here.
 MAX_KKT_BANDWIDTH = 48
 
@@ -89,16 +94,17 @@ def banded_kkt(B: Any, g: Array, C: Any, c: Array) -> tuple[Array, Array] | None
 
 
 def guessed_qp(B: Any, g: Array, E: Any, e: Array, G: Any, h: Array, active: NDArray[np.bool_],
-               scale: float) -> tuple[Array, Array, Array] | None:
+               scale: float, solves: int = MAX_GUESSES) -> tuple[Array, Array, Array] | None:
     """The solution ``(d, y, z)`` of ``min 1/2 d^T B d + g^T d  s.t.  E d = e,  G d <= h`` (``B`` sparse positive
     definite; qpsolvers' signs: ``B d + g + E^T y + G^T z = 0``, ``z >= 0``) from the rows ``active`` (bool (m_G,))
-    guessed active, or None when :data:`MAX_GUESSES` solves do not find it (see the module docstring)."""
+    guessed active, or None when ``solves`` solves (default :data:`MAX_GUESSES`) do not find it (see the module
+    docstring)."""
     G = sp.csr_matrix(G)
     E = sp.csr_matrix(E)
     m_eq = e.size
     tol = ACTIVE_SET_TOL * scale
     active = np.asarray(active, dtype=bool).copy()
-    for _ in range(MAX_GUESSES):
+    for _ in range(solves):
         rows = np.flatnonzero(active)
         C = sp.vstack((E, G[rows]), format="csr") if rows.size else E
         step = banded_kkt(B, g, C, np.concatenate((e, h[rows])))

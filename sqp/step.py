@@ -56,10 +56,11 @@ def qp_step(problem: Problem, options: Options, st: State, rho: float) -> tuple[
     if needs_convexification(B) and not _equality_only(problem, box):
         B = B.convexified()
     guess = _guess(problem, st) if options.active_set_guess else None
-    qp = solve_subproblem(B, st.der.g, nl, lin, *box, **kw, active=guess)
+    first = st.qp is None or not st.qp.found
+    qp = solve_subproblem(B, st.der.g, nl, lin, *box, **kw, active=guess, first=first)
     if not qp.found and needs_convexification(B):  # K's inertia is wrong: W is not convex on E's null space
         B = B.convexified()
-        qp = solve_subproblem(B, st.der.g, nl, lin, *box, **kw, active=guess)
+        qp = solve_subproblem(B, st.der.g, nl, lin, *box, **kw, active=guess, first=first)
     if qp.found and problem.nonlinear.lb.size:
         qp = _with_violation(qp, linearised_violation(problem, st, qp.d))
     if qp.found:

@@ -24,7 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from sqp.active_set import guessed_qp
+from sqp.active_set import FIRST_GUESSES, MAX_GUESSES, guessed_qp
 from sqp.kkt import inf_norm
 from sqp.problem import Rows
 from sqp.qp_call import QP_RESIDUAL_TOL, Backends, solve_qp
@@ -172,6 +172,7 @@ def solve_subproblem(
     initvals: Array | None = None,
     elastic_penalty: float | None = None,
     active: NDArray[np.bool_] | None = None,
+    first: bool = False,
 ) -> QPStep:
     """Solve the QP (Eqs. 9–10); with ``elastic_penalty`` solve its elastic relaxation instead.
 
@@ -197,11 +198,13 @@ def solve_subproblem(
         The inequality rows guessed active (:func:`active_guess`): a QP with a sparse ``B``, inequality rows and no
         bounds is first solved on that guess (:func:`sqp.active_set.guessed_qp`), the backends asked only when it
         fails. Not used by the elastic QP.
+    first : bool
+        Whether ``active`` comes from starting multipliers, not a QP of this solve (tried once, not corrected).
     """
     n = g.size
     scale = max(1.0, inf_norm(g))
     if elastic_penalty is None:
-        return _solve_plain(B, g, nonlinear, linear, box_lo, box_hi, backends, initvals, scale, active)
+        return _solve_plain(B, g, nonlinear, linear, box_lo, box_hi, backends, initvals, scale, active, first)
     if needs_convexification(B):
         return _failed(n, nonlinear, linear, "indefinite")
     return _solve_elastic(B, g, nonlinear, linear, box_lo, box_hi, backends, initvals, elastic_penalty, scale)
@@ -209,7 +212,7 @@ def solve_subproblem(
 
 def _solve_plain(B: Any, g: Array, nonlinear: LinearisedRows, linear: LinearisedRows, box_lo: Array, box_hi: Array,
                  backends: Backends, initvals: Array | None, scale: float,
-                 active: NDArray[np.bool_] | None = None) -> QPStep:
+                 active: NDArray[np.bool_] | None = None, first: bool = False) -> QPStep:
     """The QP itself (not elastic): an equality-only one by its KKT system directly (:func:`_equality_qp`, or the
     structured solve of a sparse ``B``), one with a guessed active set on that guess (:func:`guessed_qp`), any
     other, or one the direct solves refused, by the backends in turn."""
@@ -229,7 +232,7 @@ def _solve_plain(B: Any, g: Array, nonlinear: LinearisedRows, linear: Linearised
     if needs_convexification(B):
         return _failed(n, nonlinear, linear, "indefinite")
     if guess and G.shape[0]:
-        found = guessed_qp(B, g, E, e, G, h, active, scale)
+        found = guessed_qp(B, g, E, e, G, h, active, scale, FIRST_GUESSES if first else MAX_GUESSES)
         if found is not None:
             d, y, z = found
             return QPStep(d=d, lam_nl=_row_multipliers(nonlinear.rows, y, z, where[0]),

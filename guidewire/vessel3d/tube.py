@@ -108,6 +108,7 @@ class Tube:
         # no point of the centreline is farther than this from its nearest sample (half a spacing at the largest
         # speed |c'| seen at the samples, doubled for the speed between them)
         self.sample_reach = self.spacing * float(np.max(np.linalg.norm(value.d1, axis=1)))
+        self.box = np.stack((self.samples.min(axis=0), self.samples.max(axis=0)))
 
     # -- evaluation ----------------------------------------------------------------------------------------------
     def _spline(self, u: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -176,14 +177,20 @@ class Tube:
         hess = np.where(e.at_entrance[:, None, None], hpp, hess)
         return g, grad, hess, e
 
-    def row_bound(self, p: FloatArray, r: FloatArray) -> FloatArray:
+    def row_bound(self, p: FloatArray, r: FloatArray, floor: FloatArray | None = None) -> FloatArray:
         """An upper bound (m,) of the lumen row ``g(p) = max_u h(p, u)`` of points ``p`` (m, 3), wire radii ``r``
         (m,), from the nearest sample alone: ``h = a/2 − |v|²/(2a)`` grows with ``a``, so ``h ≤ (A² − D²)/(2A)``
-        with ``A`` the largest ``a`` anywhere and ``D ≤ |v|`` the sample's distance less :attr:`sample_reach`."""
-        distance, _ = self.tree.query(p)
+        with ``A`` the largest ``a`` anywhere and ``D ≤ |v|`` the sample's distance less :attr:`sample_reach`.
+        The samples' bounding box gives a first, weaker ``D`` at no search: points whose bound from it is already
+        below ``floor`` (m,) keep that bound, and the nearest sample is searched for the others only."""
         big_a = np.maximum(self.max_radius - r, MIN_GAP)
-        low = np.maximum(distance - self.sample_reach, 0.0)
-        return 0.5 * (big_a - low * low / big_a)
+        outside = np.maximum(np.maximum(self.box[0] - p, p - self.box[1]), 0.0)
+        bound = _ball_bound(np.sqrt(np.einsum("ij,ij->i", outside, outside)) - self.sample_reach, big_a)
+        near = np.arange(len(p)) if floor is None else np.flatnonzero(bound >= floor)
+        if near.size:
+            distance, _ = self.tree.query(p[near])
+            bound[near] = _ball_bound(distance - self.sample_reach, big_a[near])
+        return bound
 
     def path(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Points and unit tangents at chord parameters ``s`` (≈ arc length from the entrance; straight past the
@@ -194,6 +201,12 @@ class Tube:
         before = s < 0.0
         c = np.where(before[:, None], e.centre + s[:, None] * t, e.centre)
         return c, t
+
+
+def _ball_bound(low: FloatArray, big_a: FloatArray) -> FloatArray:
+    """``(A² − D²)/(2A)`` with ``D = max(low, 0)``: the largest ``h`` at a distance of at least ``low``."""
+    low = np.maximum(low, 0.0)
+    return 0.5 * (big_a - low * low / big_a)
 
 
 class _Parts:

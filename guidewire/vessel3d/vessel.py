@@ -176,7 +176,7 @@ class Vessel3D:
             for tube in self._tubes[1:]:
                 # (a branch is evaluated only at the points it might hold better than the tubes before it: its
                 # row is at most the bound of Tube.row_bound, and every row is a function of its own point alone)
-                near = np.flatnonzero(tube.row_bound(p, r) >= best[0])
+                near = np.flatnonzero(tube.row_bound(p, r, best[0]) >= best[0])
                 if not near.size:
                     continue
                 g, grad, hess, _ = tube.rows(p[near], r[near])

@@ -175,14 +175,17 @@ def test_piecewise_evaluation_is_scipys(shape):
 
 
 def test_branch_row_bound_holds_and_lumen_rows_are_the_best_tube():
-    """``Tube.row_bound`` is at least the row of its tube at points all over and around the arch's tubes, and the
-    lumen rows (which skip a branch wherever its bound loses) are the best tube's row at every point."""
+    """``Tube.row_bound`` (with or without a floor) is at least the row of its tube at points all over and around
+    the arch's tubes, and the lumen rows (which skip a branch wherever its bound loses) are the best tube's row at
+    every point."""
     vessel = _arch()
     rng = np.random.default_rng(3)
     line = np.vstack(vessel.centrelines(0.5))
     p = line[rng.integers(0, len(line), 2000)] + rng.normal(0.0, 6.0, (2000, 3))
     r = np.full(len(p), 0.35)
     rows = [tube.rows(p, r)[0] for tube in vessel.tubes]
+    floor = rng.uniform(-20.0, 2.0, len(p))  # (with a floor: the bounding box's weaker bound where it is below)
     for tube, g in zip(vessel.tubes, rows, strict=True):
         assert np.all(tube.row_bound(p, r) >= g)
+        assert np.all(tube.row_bound(p, r, floor) >= g)
     assert np.array_equal(vessel.lumen_rows(p, r)[0], np.max(rows, axis=0))

@@ -136,6 +136,7 @@ def compare(case: str, before: list[dict[str, Any]], after: list[dict[str, Any]]
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--before", type=Path, help="source tree of the commit to compare against")
+    ap.add_argument("--label", help="what the before tree is (default: its path), for the table's header")
     ap.add_argument("--sizes", type=int, nargs="+", default=list(SIZES))
     ap.add_argument("--no-arch", action="store_true", help="helix sizes only")
     ap.add_argument("--rounds", type=int, default=3, help="alternating child runs per tree")
@@ -167,7 +168,7 @@ def main() -> None:
     (args.out / "vessels3d_ab.json").write_text(json.dumps(rows, indent=1))
     lines = ["# 3-D steps before and after (same run, alternating)", "",
              *(f"- {line}" for line in env.environment(guidewire=False)),
-             f"- before: the tree at `{args.before}`; after: this repository", "",
+             f"- before: {args.label or f'the tree at `{args.before}`'}; after: this repository", "",
              f"CPU ms per step (process time), median over {args.rounds} alternating child runs per tree x "
              f"{args.repeats} repeats of each sequence, per step and then over the steps; wall ms the same way "
              "(`solve_time_s`).", ""]

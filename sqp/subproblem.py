@@ -195,7 +195,7 @@ def solve_subproblem(
     elastic_penalty : float, optional
         Price ``rho`` of a unit of slack; solves the elastic QP when given.
     active : ndarray of bool, optional
-        The inequality rows guessed active (:func:`active_guess`): a QP with a sparse ``B``, inequality rows and no
+        The inequality rows guessed active (:func:`active_guess`): a QP with a sparse ``B`` and no
         bounds is first solved on that guess (:func:`sqp.active_set.guessed_qp`), the backends asked only when it
         fails. Not used by the elastic QP.
     first : bool
@@ -231,7 +231,7 @@ def _solve_plain(B: Any, g: Array, nonlinear: LinearisedRows, linear: Linearised
                           found=True, elastic=False, slack=0.0, status="kkt")
     if needs_convexification(B):
         return _failed(n, nonlinear, linear, "indefinite")
-    if guess and G.shape[0]:
+    if guess:  # (with no inequality rows: the equality QP by one banded KKT solve)
         found = guessed_qp(B, g, E, e, G, h, active, scale, FIRST_GUESSES if first else MAX_GUESSES)
         if found is not None:
             d, y, z = found

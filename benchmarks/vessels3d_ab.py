@@ -16,8 +16,9 @@ aortic arch (``aortic_arch_I.toml``, 2 bars per mm) inserted to 120 mm in 2 mm s
 (244-252 bars: stEVE's size) and turned 15° twice. The converged start of each sequence is made once per tree and
 cached in ``--cache``.
 
-Usage: ``python benchmarks/vessels3d_ab.py --before DIR [--sizes 100 200 ...] [--rounds 3] [--repeats 3]``; writes
-``vessels3d_ab.{md,json}`` to ``--out``.
+Usage: ``python benchmarks/vessels3d_ab.py --before DIR [--label TEXT] [--sizes 100 200 ...] [--rounds 3]
+[--repeats 3]``; writes ``vessels3d_ab.{md,json}`` to ``--out`` (``--quick``: this tree against itself at 60 and 120
+bars, ``vessels3d_ab_quick.*``).
 """
 
 from __future__ import annotations
@@ -29,22 +30,24 @@ import os
 import pickle
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 from typing import Any
 
 import _environment as env  # noqa: I001  (first: pins BLAS threads before numpy loads)
 import numpy as np
-from _tables import markdown_table, write_markdown
+from _tables import markdown_table, output_stem, write_markdown
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 ARCH = ROOT / "guidewire" / "scenes" / "vessels3d" / "aortic_arch_I.toml"
 SIZES = (100, 200, 400, 800, 1600, 3200)
+QUICK_SIZES = (60, 120)
 
 
 # -- the child: one tree, one sequence -----------------------------------------------------------------------------
-def _helix_start(n: int, cache: Path, tag: str) -> tuple[Any, Any]:
+def _helix_start(n: int, cache: Path, tag: str, sizes: tuple[int, ...]) -> tuple[Any, Any]:
     from guidewire import Wire
     from guidewire.solve3d import Scene3D
     from guidewire.solve3d.insert import advance, insert3d
@@ -54,8 +57,8 @@ def _helix_start(n: int, cache: Path, tag: str) -> tuple[Any, Any]:
     path = cache / f"{tag}_helix_{n}.pkl"
     if path.exists():
         return scene, pickle.loads(path.read_bytes())
-    smaller = [m for m in SIZES if m < n]
-    sol = (_helix_start(smaller[-1], cache, tag)[1] if smaller
+    smaller = sorted(m for m in sizes if m < n)
+    sol = (_helix_start(smaller[-1], cache, tag, sizes)[1] if smaller
            else insert3d(scene, np.arange(10.0, 60.5, 2.0)).steps[-1])
     sol = advance(scene, sol, 60.0, 0.0, n / 60.0, {})
     if not sol.success:
@@ -79,8 +82,9 @@ def _arch_start(cache: Path, tag: str) -> tuple[Any, Any]:
     return scene, ins.steps[-1]
 
 
-def child(case: str, repeats: int, cache: Path, tag: str) -> dict[str, Any]:
-    """Time ``case``'s sequence ``repeats`` times under the tree on ``sys.path``."""
+def child(case: str, repeats: int, cache: Path, tag: str, sizes: tuple[int, ...]) -> dict[str, Any]:
+    """Time ``case``'s sequence ``repeats`` times under the tree on ``sys.path`` (``sizes``: the helix sizes, each
+    start carried from the one below it)."""
     from guidewire.solve3d.insert import advance
 
     if case == "arch":
@@ -89,7 +93,7 @@ def child(case: str, repeats: int, cache: Path, tag: str) -> dict[str, Any]:
         steps = [(122.0, 0.0), (124.0, 0.0), (126.0, 0.0), (126.0, 15.0), (126.0, 30.0)]
     else:
         n = int(case.split("_")[1])
-        scene, start = _helix_start(n, cache, tag)
+        scene, start = _helix_start(n, cache, tag, sizes)
         density = n / 60.0
         steps = [(60.5, 0.0), (61.0, 0.0), (61.5, 0.0)]
     cpu: list[list[float]] = [[] for _ in steps]
@@ -110,11 +114,11 @@ def child(case: str, repeats: int, cache: Path, tag: str) -> dict[str, Any]:
 
 
 # -- the parent: alternate the trees -------------------------------------------------------------------------------
-def run_child(tree: Path, case: str, repeats: int, cache: Path, tag: str) -> dict[str, Any]:
+def run_child(tree: Path, case: str, repeats: int, cache: Path, tag: str, sizes: list[int]) -> dict[str, Any]:
     environ = dict(os.environ, PYTHONPATH=f"{tree}{os.pathsep}{HERE}")
     out = subprocess.run([sys.executable, str(Path(__file__).resolve()), "--child", case, "--repeats", str(repeats),
-                          "--cache", str(cache), "--tag", tag], env=environ, capture_output=True, text=True,
-                         check=True, cwd=HERE)
+                          "--cache", str(cache), "--tag", tag, "--sizes", *map(str, sizes)], env=environ,
+                         capture_output=True, text=True, check=True, cwd=HERE)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -135,22 +139,29 @@ def compare(case: str, before: list[dict[str, Any]], after: list[dict[str, Any]]
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--before", type=Path, help="source tree of the commit to compare against")
+    ap.add_argument("--before", type=Path, help="source tree of the commit to compare against (--quick: this one)")
     ap.add_argument("--label", help="what the before tree is (default: its path), for the table's header")
-    ap.add_argument("--sizes", type=int, nargs="+", default=list(SIZES))
+    ap.add_argument("--sizes", type=int, nargs="+", default=None, help=f"helix bar counts (default {SIZES})")
+    ap.add_argument("--quick", action="store_true", help="this tree against itself, 60 and 120 bars, once each")
     ap.add_argument("--no-arch", action="store_true", help="helix sizes only")
     ap.add_argument("--rounds", type=int, default=3, help="alternating child runs per tree")
     ap.add_argument("--repeats", type=int, default=3, help="repeats of the sequence in each child")
-    ap.add_argument("--cache", type=Path, default=Path("/tmp/vessels3d_ab_cache"))
+    ap.add_argument("--cache", type=Path, default=None, help="where the converged starts are kept (default: a "
+                    "new temporary directory; a kept one must be emptied when either tree changes)")
     ap.add_argument("--out", type=Path, default=HERE / "results")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     ap.add_argument("--tag", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.child:
-        print(json.dumps(child(args.child, args.repeats, args.cache, args.tag)))
+        print(json.dumps(child(args.child, args.repeats, args.cache, args.tag, tuple(args.sizes))))
         return
+    if args.quick:
+        args.before, args.label, args.no_arch = ROOT, "this tree (--quick)", True
+        args.sizes, args.rounds, args.repeats = args.sizes or list(QUICK_SIZES), 1, 1
     if args.before is None:
         ap.error("--before DIR is required (a source tree of the commit to compare against)")
+    args.sizes = sorted(args.sizes or SIZES)
+    args.cache = args.cache or Path(tempfile.mkdtemp(prefix="vessels3d_ab_"))
     args.cache.mkdir(parents=True, exist_ok=True)
     cases = [f"helix_{n}" for n in args.sizes] + ([] if args.no_arch else ["arch"])
     rows = []
@@ -158,14 +169,15 @@ def main() -> None:
         runs: dict[str, list[dict[str, Any]]] = {"before": [], "after": []}
         for _ in range(args.rounds):
             for tag, tree in (("before", args.before), ("after", ROOT)):
-                runs[tag].append(run_child(tree.resolve(), case, args.repeats, args.cache, tag))
+                runs[tag].append(run_child(tree.resolve(), case, args.repeats, args.cache, tag, args.sizes))
         rows.append(compare(case, runs["before"], runs["after"]))
         r = rows[-1]
         print(f"{case}: {r['bars']} bars, before {r['before_ms']:.1f} ms, after {r['after_ms']:.1f} ms "
               f"({r['before_ms'] / r['after_ms']:.2f}x), energy gap {r['energy_gap']:.1e}, "
               f"nodes {r['node_gap_mm']:.1e} mm", flush=True)
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "vessels3d_ab.json").write_text(json.dumps(rows, indent=1))
+    stem = output_stem(args.out, "vessels3d_ab", args.quick)
+    stem.parent.mkdir(parents=True, exist_ok=True)
+    stem.with_suffix(".json").write_text(json.dumps(rows, indent=1))
     lines = ["# 3-D steps before and after (same run, alternating)", "",
              *(f"- {line}" for line in env.environment(guidewire=False)),
              f"- before: {args.label or f'the tree at `{args.before}`'}; after: this repository", "",
@@ -184,7 +196,7 @@ def main() -> None:
             slope = np.polyfit(np.log([r["bars"] for r in helix]), np.log([r[key] for r in helix]), 1)[0]
             lines.append(f"\nFitted growth {name}: time ∝ n^{slope:.2f} over {helix[0]['bars']}…{helix[-1]['bars']} "
                          "bars (helix).")
-    write_markdown(lines, args.out / "vessels3d_ab.md")
+    write_markdown(lines, stem.with_suffix(".md"))
     print("\n".join(lines))
 
 

@@ -5,16 +5,19 @@ What is measured
 Scenes (``guidewire/scenes/vessels3d/`` and the shipped shapes): a straight 0.89 mm wire and stEVE's J wire pushed
 through the helix, the J then turned at the clamp, and a 0.36 mm wire through the out-of-plane S-bend, at
 ``--density`` bars per mm, in 1 mm steps (rotation in 15° steps) by :func:`guidewire.solve3d.insert.insert3d`, each
-step warm-started by the track predictor (the previous shape, frames and multipliers). Per step: our time
-(``Solution3D.solve_time_s``: the program, every round, the answer with its forces), iterations, success.
+step warm-started by the track predictor (the previous shape, frames and multipliers); and stEVE's J wire in its type
+I aortic arch (``aortic_arch_I.toml``, 2 bars per mm) pushed 20 → 120 mm in 2 mm steps (240 bars at the end:
+stEVE's size) and turned to 90° in 15° steps. Per step: our time (``Solution3D.solve_time_s``: the program, every
+round, the answer with its forces), iterations, success.
 
 IPOPT (cyipopt, exact sparse Hessians of the energy and of every row, on fixed patterns) solves the same program of
 each step from the same start point (our predictor's frames and nodes); its time is the ``minimize_ipopt`` call,
 answers compared by energy. IPOPT gets no multiplier warm start (its warm-start options need tuned bound pushes).
 
-Growth: the straight wire at 60 mm in the helix, carried to 100 … 800 bars by the predictor (bars resampled along
-arc length) and converged; then the median of three 0.5 mm steps at that density. (At 1 600 bars the resampled start
-— 120 straight pieces of 13 bars each — did not converge within 400 s, so larger sizes are not measured.)
+Growth: the straight wire at 60 mm in the helix, carried to 100 … 3200 bars by the predictor (bars resampled along
+arc length), each size from the converged one before it (the first from a 2 bars per mm insertion), and converged;
+then the median of three 0.5 mm steps at that density. (Carried from the coarse insertion in one jump, 1 600 bars
+started from 120 straight pieces of 13 bars each and did not converge within 400 s.)
 
 Goals (3-D issue): ≤ 5 ms median per step at stEVE's size (~240 bars), ≥ 3× faster than warm-started IPOPT, growth
 ≤ n^1.2 up to 3200 bars.
@@ -45,7 +48,7 @@ from guidewire.vessel3d.shapes import helix
 
 SCENES = Path(__file__).resolve().parents[1] / "guidewire" / "scenes" / "vessels3d"
 STEVE_J = (Section.arc(12.1, 0.4 * math.pi, youngs_modulus=17000.0, diameter=0.7),)
-GROWTH_BARS = (100, 200, 400, 800)
+GROWTH_BARS = (100, 200, 400, 800, 1600, 3200)
 QUICK_GROWTH = (60, 120)
 
 
@@ -59,11 +62,16 @@ def cases(quick: bool, density: float) -> list[tuple[str, Scene3D, np.ndarray, n
     s_bend = load_scene(SCENES / "s_bend_3d.toml")
     s_wire = Wire(length=10.0, bars=round(10 * density), youngs_modulus=60000.0, diameter=0.36)
     s_push = np.arange(10.0, (16.0 if quick else 80.0) + 0.5, 1.0)
+    arch = load_scene(SCENES / "aortic_arch_I.toml")
+    a_push = np.arange(20.0, (30.0 if quick else 120.0) + 0.5, 2.0)
+    a_turns = np.radians(np.arange(15.0, (30.0 if quick else 90.0) + 1.0, 15.0))
     return [
         ("helix, straight wire", Scene3D.in_vessel(straight, helix()), push, np.zeros(push.size)),
         ("helix, J wire, push then turn", Scene3D.in_vessel(j_wire, helix()),
          np.concatenate((push, np.full(turns.size, push[-1]))), np.concatenate((np.zeros(push.size), turns))),
         ("S-bend 3D", Scene3D.in_vessel(s_wire, s_bend.vessel), s_push, np.zeros(s_push.size)),
+        ("aortic arch I, stEVE's J wire, push then turn", arch,
+         np.concatenate((a_push, np.full(a_turns.size, a_push[-1]))), np.concatenate((np.zeros(a_push.size), a_turns))),
     ]
 
 
@@ -139,8 +147,8 @@ def ipopt_step(previous: Any, scene: Scene3D, length: float, turn: float, densit
     return run_ipopt_program(Program.build(target, tracked_frames(previous, target)))
 
 
-def insertion(name: str, scene: Scene3D, lengths: np.ndarray, turns: np.ndarray, density: float,
-              ipopt: bool) -> list[dict[str, Any]]:
+def insertion(name: str, scene: Scene3D, lengths: np.ndarray, turns: np.ndarray, ipopt: bool) -> list[dict[str, Any]]:
+    density = scene.wire.bars / scene.wire.length  # (as insert3d keeps it)
     wall = time.perf_counter()
     out = insert3d(scene, lengths, turns)
     total = time.perf_counter() - wall
@@ -162,15 +170,15 @@ def insertion(name: str, scene: Scene3D, lengths: np.ndarray, turns: np.ndarray,
 
 
 def growth(sizes: tuple[int, ...]) -> list[dict[str, Any]]:
-    """Per-step time of the straight wire in the helix at 60 mm, by bar count."""
+    """Per-step time of the straight wire in the helix at 60 mm, by bar count (each size carried from the last)."""
     wire = Wire(length=10.0, bars=20, youngs_modulus=80000.0, diameter=0.89)
     scene = Scene3D.in_vessel(wire, helix())
-    coarse = insert3d(scene, np.arange(10.0, 60.5, 2.0))
+    sol = insert3d(scene, np.arange(10.0, 60.5, 2.0)).steps[-1]
     rows = []
     for n in sizes:
         density = n / 60.0
-        sol = advance(scene, coarse.steps[-1], 60.0, 0.0, density, {})  # (resampled to n bars, converged)
-        times, its = [], []
+        start = advance(scene, sol, 60.0, 0.0, density, {})  # (resampled to n bars, converged)
+        sol, times, its = start, [], []
         for length in (60.5, 61.0, 61.5):
             sol = advance(scene, sol, length, 0.0, density, {})
             times.append(sol.solve_time_s)
@@ -178,6 +186,7 @@ def growth(sizes: tuple[int, ...]) -> list[dict[str, Any]]:
         rows.append({"bars": n, "ours_ms": 1e3 * float(np.median(times)), "iterations": float(np.median(its)),
                      "success": bool(sol.success)})
         print(f"  growth n = {n}: {rows[-1]['ours_ms']:.1f} ms, {rows[-1]['iterations']:.0f} iterations")
+        sol = start
     return rows
 
 
@@ -189,7 +198,7 @@ def main() -> None:
     rows: list[dict[str, Any]] = []
     for name, scene, lengths, turns in cases(args.quick, args.density):
         print(f"{name}: {lengths.size} steps")
-        rows += insertion(name, scene, lengths, turns, args.density, ipopt)
+        rows += insertion(name, scene, lengths, turns, ipopt)
     grow = growth(QUICK_GROWTH if args.quick else GROWTH_BARS)
     stem = output_stem(args.out, "vessels3d", args.quick)
     write_csv(rows, stem.with_suffix(".csv"))

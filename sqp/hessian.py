@@ -340,14 +340,33 @@ def _accepted(B: Any, is_sparse: bool) -> Any | None:
     return CholeskyHessian.wrap(B, L)
 
 
+#: Widest band (``max |i - j|`` over the stored entries) for which a sparse matrix is tested by LAPACK's banded
+#: Cholesky (``dpbtrf``, O(n b²)) instead of SuperLU's unpivoted LU: on the guidewire's 3-D program (1200-1500
+#: variables, band 8-11) 0.05 ms against 0.6 ms. Both test the signs of the same pivots (Sylvester's law).
+BANDED_CHOLESKY_MAX = 32
+
+
 def _positive_definite(B: Any) -> bool:
-    """Whether the sparse symmetric ``B`` is positive definite: the pivots of its LU factorisation without pivoting
-    are all positive (Sylvester's law of inertia)."""
+    """Whether the sparse symmetric ``B`` is positive definite: its banded Cholesky factorisation succeeds (a band
+    up to :data:`BANDED_CHOLESKY_MAX`), else the pivots of its LU factorisation without pivoting are all positive
+    (Sylvester's law of inertia)."""
+    B = sp.csc_matrix(B)
+    if not B.has_canonical_format:  # (every entry once: the band below is filled by assignment)
+        B = B.copy()
+        B.sum_duplicates()
+    n = B.shape[0]
+    col = np.repeat(np.arange(n), np.diff(B.indptr))
+    offset = B.indices - col
+    if n and int(np.max(np.abs(offset), initial=0)) <= BANDED_CHOLESKY_MAX:
+        lower = offset >= 0
+        ab = np.zeros((int(np.max(offset, initial=0)) + 1, n))
+        ab.reshape(-1)[offset[lower] * n + col[lower]] = B.data[lower]
+        factor, info = lapack.dpbtrf(ab, lower=1, overwrite_ab=1)
+        return bool(info == 0 and np.all(np.isfinite(factor[0])) and np.all(factor[0] > 0.0))
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            lu = spla.splu(sp.csc_matrix(B), permc_spec="NATURAL", diag_pivot_thresh=0.0,
-                           options={"SymmetricMode": True})
+            lu = spla.splu(B, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
     except RuntimeError:  # exactly singular
         return False
     return bool(np.all(lu.perm_r == np.arange(B.shape[0])) and np.all(lu.U.diagonal() > 0))

@@ -85,6 +85,13 @@ class Options:
         along many rows at every iteration (a wire sliding along a vessel wall: its contact nodes change from step
         to step) each step can release a row only a little and convergence turns linear. A 3-D wire pushed through
         a helix: 300+ iterations per step with True, 3-7 with False.
+    active_set_guess : bool
+        Solve a QP with a sparse model Hessian and no bounds first on the active set the last QP's multipliers (or
+        the starting ones) guess, by one banded KKT solve corrected at most twice (once for the first QP;
+        :func:`sqp.active_set.guessed_qp`; an equality-only QP by that one solve), and ask the backends only when
+        that fails (False, the default: the backends always). The answer is the QP's exact solution where an
+        interior-point backend gives it to its tolerance; on the guidewire's 3-D program (1200-1500 variables) one
+        such solve takes about 1 ms against PIQP's 5-7 ms.
     restoration : bool
         After an INFEASIBLE end with nonlinear rows, minimise the violation from the last point
         (:mod:`sqp.restoration`) and report that point, or solve again from it when its violation is within
@@ -113,6 +120,7 @@ class Options:
     restart: bool = True
     restoration: bool = True
     convexify_inequalities: bool = True
+    active_set_guess: bool = False
 
     def __post_init__(self) -> None:
         if not isinstance(self.tol, int | float) or not self.tol > 0:

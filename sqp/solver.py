@@ -73,6 +73,7 @@ def minimize(
     verbose: bool = False,
     convexify_inequalities: bool = True,
     qp_fallbacks: tuple[str, ...] | None = None,
+    active_set_guess: bool = False,
 ) -> Result:
     """Minimise ``fun(x, *args)`` subject to bounds and constraints by SQP; scipy's ``minimize(method="SLSQP")`` call.
 
@@ -154,6 +155,9 @@ def minimize(
     qp_fallbacks : tuple of str or None
         Backends asked when the chosen one fails a subproblem (:attr:`sqp.Options.qp_fallbacks`); None: its
         default.
+    active_set_guess : bool
+        Solve each sparse QP with inequality rows first on the active set the last multipliers guess, the backends
+        asked only when that fails (:attr:`sqp.Options.active_set_guess`).
 
     Returns
     -------
@@ -192,7 +196,7 @@ def minimize(
     options_ = Options(tol=call.tol, feasibility_tol=feasibility_tol, max_iter=call.max_iter, qp_solver=qp_solver,
                        qp_options=dict(qp_options or {}),
                        callback=adapt_callback(callback), verbose=call.table,
-                       convexify_inequalities=bool(convexify_inequalities),
+                       convexify_inequalities=bool(convexify_inequalities), active_set_guess=bool(active_set_guess),
                        **({} if qp_fallbacks is None else {"qp_fallbacks": tuple(qp_fallbacks)}))
     problem = build_problem(fun, x0, jac, bounds, constraints, args, hess, call.differences)
     if problem.hess is not None and hess0 is not None:  # exact Hessians replace it: check the shape only

@@ -15,7 +15,7 @@ from sqp.kkt import inf_norm
 from sqp.options import Options
 from sqp.problem import Problem
 from sqp.structured import needs_convexification
-from sqp.subproblem import LinearisedRows, QPStep, linearise, solve_subproblem
+from sqp.subproblem import LinearisedRows, QPStep, active_guess, linearise, solve_subproblem
 
 Array = NDArray[np.float64]
 
@@ -55,10 +55,12 @@ def qp_step(problem: Problem, options: Options, st: State, rho: float) -> tuple[
     B = st.B
     if needs_convexification(B) and not _equality_only(problem, box):
         B = B.convexified()
-    qp = solve_subproblem(B, st.der.g, nl, lin, *box, **kw)
+    guess = _guess(problem, st) if options.active_set_guess else None
+    first = st.qp is None or not st.qp.found
+    qp = solve_subproblem(B, st.der.g, nl, lin, *box, **kw, active=guess, first=first)
     if not qp.found and needs_convexification(B):  # K's inertia is wrong: W is not convex on E's null space
         B = B.convexified()
-        qp = solve_subproblem(B, st.der.g, nl, lin, *box, **kw)
+        qp = solve_subproblem(B, st.der.g, nl, lin, *box, **kw, active=guess, first=first)
     if qp.found and problem.nonlinear.lb.size:
         qp = _with_violation(qp, linearised_violation(problem, st, qp.d))
     if qp.found:
@@ -67,6 +69,17 @@ def qp_step(problem: Problem, options: Options, st: State, rho: float) -> tuple[
         return qp, 0.0, B
     qp, rho = _elastic(problem, st, B, (nl, lin), box, kw)
     return qp, rho, B
+
+
+def _guess(problem: Problem, st: State) -> NDArray[np.bool_]:
+    """The QP's inequality rows guessed active (:func:`sqp.subproblem.active_guess`): those the last QP's
+    multipliers hold, or at the first iteration those with a starting multiplier (``st.mu`` is then its size; a
+    two-sided row is guessed on its upper side)."""
+    if st.qp is not None and st.qp.found:
+        return active_guess(problem.nonlinear, problem.linear, st.qp.lam_nl, st.qp.lam_lin)
+    lam = np.array(st.mu, dtype=float)
+    lam[problem.nonlinear.upper] *= -1.0
+    return active_guess(problem.nonlinear, problem.linear, lam, np.zeros(problem.linear.lb.size))
 
 
 def _met_by_another_backend(problem: Problem, options: Options, st: State, B: Any, qp: QPStep,

@@ -24,6 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from sqp.active_set import FIRST_GUESSES, MAX_GUESSES, guessed_qp
 from sqp.kkt import inf_norm
 from sqp.problem import Rows
 from sqp.qp_call import QP_RESIDUAL_TOL, Backends, solve_qp
@@ -80,8 +81,10 @@ def linearise(J: Array, c: Array, rows: Rows) -> LinearisedRows:
     return LinearisedRows(M=J, lo=rows.lb - c, hi=rows.ub - c, rows=rows)
 
 
-def _stack_rows(parts: list[LinearisedRows], n: int) -> tuple[Any, Array, Any, Array, list[tuple[int, ...]]]:
-    """Equalities ``E d = e`` and inequalities ``G d <= h`` of several row kinds, and where each kind's rows went."""
+def _stack_rows(parts: list[LinearisedRows], n: int,
+                compressed: str = "csc") -> tuple[Any, Array, Any, Array, list[tuple[int, ...]]]:
+    """Equalities ``E d = e`` and inequalities ``G d <= h`` of several row kinds, and where each kind's rows went
+    (sparse ones in the ``compressed`` format)."""
     E_list, e_list, G_list, h_list, where = [], [], [], [], []
     n_eq = n_in = 0
     for part in parts:  # (only the kinds of rows present: most problems have one or two)
@@ -99,17 +102,20 @@ def _stack_rows(parts: list[LinearisedRows], n: int) -> tuple[Any, Array, Any, A
         where.append((n_eq, n_in, n_in + r.lower.size))
         n_eq += r.eq.size
         n_in += r.lower.size + r.upper.size
-    E = _vstack(E_list, n)
-    G = _vstack(G_list, n)
+    E = _vstack(E_list, n, compressed)
+    G = _vstack(G_list, n, compressed)
     e = _concatenate(e_list)
     h = _concatenate(h_list)
     return E, e, G, h, where
 
 
 def _rows_of(M: Any, index: NDArray[np.intp]) -> Any:
-    """``M[index]``; a sparse ``M`` itself when ``index`` is all its rows (:func:`_vstack` copies it anyway)."""
+    """``M[index]``; a sparse ``M`` itself when ``index`` is all its rows (:func:`_vstack` copies it anyway), a
+    slice of it when ``index`` is a run of consecutive rows (the same matrix, without fancy indexing's work)."""
     if sp.issparse(M) and index.size == M.shape[0]:
         return M
+    if sp.issparse(M) and index.size and int(index[-1]) - int(index[0]) + 1 == index.size:
+        return M[int(index[0]) : int(index[-1]) + 1]
     return M[index]
 
 
@@ -118,13 +124,28 @@ def _concatenate(parts: list[Array]) -> Array:
     return parts[0] if len(parts) == 1 else np.concatenate(parts) if parts else np.zeros(0)
 
 
-def _vstack(blocks: list[Any], n: int) -> Any:
-    """The nonempty blocks stacked (a single one as it is); CSC when any is sparse."""
+def _vstack(blocks: list[Any], n: int, compressed: str = "csc") -> Any:
+    """The nonempty blocks stacked (a single one as it is); ``compressed`` (CSC or CSR) when any is sparse."""
     if not blocks:
         return np.zeros((0, n))
     if any(sp.issparse(b) for b in blocks):
-        return sp.vstack(blocks, format="csc")
+        return sp.vstack(blocks, format=compressed)
     return blocks[0] if len(blocks) == 1 else np.vstack(blocks)
+
+
+#: :func:`active_guess` counts a multiplier above this times ``max(1, largest multiplier)`` in size (an interior-point
+#: backend leaves tiny positive multipliers on the rows it does not hold).
+ACTIVE_MULTIPLIER = 1e-7
+
+
+def active_guess(nonlinear: Rows, linear: Rows, lam_nl: Array, lam_lin: Array) -> NDArray[np.bool_]:
+    """The inequality rows ``G d <= h`` of the QP (in :func:`_stack_rows`' order: per kind, the lower sides, then
+    the upper ones) that multipliers ``lam_nl``, ``lam_lin`` (engine convention) hold active: a positive multiplier
+    on a lower side, a negative one on an upper side, larger than :data:`ACTIVE_MULTIPLIER` relative."""
+    t = ACTIVE_MULTIPLIER * max(1.0, inf_norm(lam_nl) if lam_nl.size else 0.0,
+                                inf_norm(lam_lin) if lam_lin.size else 0.0)
+    return np.concatenate((lam_nl[nonlinear.lower] > t, lam_nl[nonlinear.upper] < -t,
+                           lam_lin[linear.lower] > t, lam_lin[linear.upper] < -t))
 
 
 def _row_multipliers(rows: Rows, y: Array, z: Array, where: tuple[int, ...]) -> Array:
@@ -150,6 +171,8 @@ def solve_subproblem(
     backends: Backends,
     initvals: Array | None = None,
     elastic_penalty: float | None = None,
+    active: NDArray[np.bool_] | None = None,
+    first: bool = False,
 ) -> QPStep:
     """Solve the QP (Eqs. 9–10); with ``elastic_penalty`` solve its elastic relaxation instead.
 
@@ -171,23 +194,33 @@ def solve_subproblem(
         Warm start for the primal step.
     elastic_penalty : float, optional
         Price ``rho`` of a unit of slack; solves the elastic QP when given.
+    active : ndarray of bool, optional
+        The inequality rows guessed active (:func:`active_guess`): a QP with a sparse ``B`` and no
+        bounds is first solved on that guess (:func:`sqp.active_set.guessed_qp`), the backends asked only when it
+        fails. Not used by the elastic QP.
+    first : bool
+        Whether ``active`` comes from starting multipliers, not a QP of this solve (tried once, not corrected).
     """
     n = g.size
     scale = max(1.0, inf_norm(g))
     if elastic_penalty is None:
-        return _solve_plain(B, g, nonlinear, linear, box_lo, box_hi, backends, initvals, scale)
+        return _solve_plain(B, g, nonlinear, linear, box_lo, box_hi, backends, initvals, scale, active, first)
     if needs_convexification(B):
         return _failed(n, nonlinear, linear, "indefinite")
     return _solve_elastic(B, g, nonlinear, linear, box_lo, box_hi, backends, initvals, elastic_penalty, scale)
 
 
 def _solve_plain(B: Any, g: Array, nonlinear: LinearisedRows, linear: LinearisedRows, box_lo: Array, box_hi: Array,
-                 backends: Backends, initvals: Array | None, scale: float) -> QPStep:
+                 backends: Backends, initvals: Array | None, scale: float,
+                 active: NDArray[np.bool_] | None = None, first: bool = False) -> QPStep:
     """The QP itself (not elastic): an equality-only one by its KKT system directly (:func:`_equality_qp`, or the
-    structured solve of a sparse ``B``), any other, or one the direct solve refused, by the backends in turn."""
+    structured solve of a sparse ``B``), one with a guessed active set on that guess (:func:`guessed_qp`), any
+    other, or one the direct solves refused, by the backends in turn."""
     n = g.size
     has_box = bool(np.isfinite(box_lo).any() or np.isfinite(box_hi).any())
-    E, e, G, h, where = _stack_rows([nonlinear, linear], n)
+    guess = active is not None and sp.issparse(B) and not has_box
+    # (CSR for the guessed active set's row picks; a backend asked after all gets the same matrices in CSC)
+    E, e, G, h, where = _stack_rows([nonlinear, linear], n, "csr" if guess else "csc")
     if not has_box and G.shape[0] == 0:
         step = _checked(B, g, E, e, scale, equality_kkt(B, g, E, e)) if sp.issparse(B) else _equality_qp(
             B, g, E, e, scale)
@@ -198,6 +231,13 @@ def _solve_plain(B: Any, g: Array, nonlinear: LinearisedRows, linear: Linearised
                           found=True, elastic=False, slack=0.0, status="kkt")
     if needs_convexification(B):
         return _failed(n, nonlinear, linear, "indefinite")
+    if guess:  # (with no inequality rows: the equality QP by one banded KKT solve)
+        found = guessed_qp(B, g, E, e, G, h, active, scale, FIRST_GUESSES if first else MAX_GUESSES)
+        if found is not None:
+            d, y, z = found
+            return QPStep(d=d, lam_nl=_row_multipliers(nonlinear.rows, y, z, where[0]),
+                          lam_lin=_row_multipliers(linear.rows, y, z, where[1]), z=np.zeros(n), found=True,
+                          elastic=False, slack=0.0, status="active set")
     sol, used = solve_qp(backends, B, g, G, h, E, e, box_lo if has_box else None, box_hi if has_box else None,
                        initvals, scale)
     if sol is None:

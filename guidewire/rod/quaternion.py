@@ -24,6 +24,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .jet import Jet
+
 FloatArray = NDArray[np.float64]
 
 
@@ -45,6 +47,33 @@ def conjugate(q: Any) -> list[Any]:
 def relative(qa: Any, qb: Any) -> list[Any]:
     """``r = q̄_a ⊗ q_b``: frame ``b`` seen from frame ``a`` (body axes of ``a``), four components."""
     return multiply(conjugate(qa), qb)
+
+
+#: ``r = q̄_a ⊗ q_b`` as a bilinear form: ``r_i = Σ_jk RELATIVE[i, j, k] a_j b_k``.
+RELATIVE = np.zeros((4, 4, 4))
+for _i, _j, _k, _sign in ((0, 0, 0, 1), (0, 1, 1, 1), (0, 2, 2, 1), (0, 3, 3, 1),
+                          (1, 0, 1, 1), (1, 1, 0, -1), (1, 2, 3, -1), (1, 3, 2, 1),
+                          (2, 0, 2, 1), (2, 1, 3, 1), (2, 2, 0, -1), (2, 3, 1, -1),
+                          (3, 0, 3, 1), (3, 1, 2, -1), (3, 2, 1, 1), (3, 3, 0, -1)):
+    RELATIVE[_i, _j, _k] = _sign
+
+
+def relative_affine(qa: list[Jet], qb: list[Jet]) -> list[Jet]:
+    """:func:`relative` of jets that are affine in their variables (zero Hessians, as :meth:`Jet.affine` and
+    :meth:`Jet.constant` make them; not checked), from the bilinear form :data:`RELATIVE` at once: the gradient
+    ``Σ M (a' b + a b')`` and the Hessian ``Σ M (a' b'ᵀ + b' a'ᵀ)`` (the same numbers as :func:`relative` to
+    rounding, without its 16 jet products)."""
+    a = np.stack([j.value for j in qa], axis=1)
+    b = np.stack([j.value for j in qb], axis=1)
+    ga = np.stack([j.grad for j in qa], axis=1)
+    gb = np.stack([j.grad for j in qb], axis=1)
+    value = np.einsum("ijk,mj,mk->mi", RELATIVE, a, b)
+    mb = np.einsum("ijk,mk->mij", RELATIVE, b)  # ∂r_i/∂a_j
+    ma = np.einsum("ijk,mj->mik", RELATIVE, a)  # ∂r_i/∂b_k
+    grad = np.einsum("mij,mja->mia", mb, ga) + np.einsum("mik,mka->mia", ma, gb)
+    cross = np.einsum("ijk,mja,mkb->miab", RELATIVE, ga, gb, optimize=True)
+    hess = cross + cross.transpose(0, 1, 3, 2)
+    return [Jet(value[:, i], grad[:, i], hess[:, i]) for i in range(4)]
 
 
 def tangent_components(q: Any) -> tuple[Any, Any, Any]:

@@ -160,7 +160,7 @@ class StrainEnergy:
         zeros = np.zeros((n, 4, 3))
         qa = [Jet.affine(left_value[:, c], np.concatenate((left_slope[:, c], zeros[:, c]), axis=1)) for c in range(4)]
         qb = [Jet.affine(q[:, c], np.concatenate((zeros[:, c], basis[:, c]), axis=1)) for c in range(4)]
-        k1, k2, tau = joint_strain(quat.relative(qa, qb), "mid")
+        k1, k2, tau = joint_strain(quat.relative_affine(qa, qb), "mid")
         bend = (k1.square() + (k2 - self.joint_rest).square()) * self.joint_bending
         twist = tau.square() * self.joint_twist
         joint = bend + twist
@@ -179,7 +179,7 @@ class StrainEnergy:
             parts = []
             for mask, pair, axes in ((before, (qk, star), "a"), (~before, (star, qk), "b")):
                 if np.any(mask):  # bar → t* in the bar's axes (a); t* → bar in the bar's axes (b): both along s
-                    h1, h2, h3 = joint_strain([_take(j, mask) for j in quat.relative(*pair)], axes)
+                    h1, h2, h3 = joint_strain([_take(j, mask) for j in quat.relative_affine(*pair)], axes)
                     e = (h1.square() + (h2 - self.half_rest[mask]).square()) * self.half_weight[mask]
                     parts.append((np.flatnonzero(mask), e, h3.square() * self.half_twist[mask]))
             for index, e, t in parts:

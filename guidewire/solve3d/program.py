@@ -42,6 +42,7 @@ from ..rod import kinematics
 from ..rod import quaternion as quat
 from ..rod.material import twist_stiffness
 from ..rod.strain_energy import EnergyParts, StrainEnergy
+from .pattern import Pattern
 from .scene import Scene3D
 
 FloatArray = NDArray[np.float64]
@@ -139,6 +140,15 @@ class Program:
     def size(self) -> int:
         return self.width * self.n
 
+    def tangents(self, z: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """:func:`guidewire.rod.kinematics.tangents` at ``z``'s ``ω`` (the closure rows' values, Jacobian and Hessian
+        all read them at one point: computed once per point)."""
+        key = np.asarray(z, dtype=float).tobytes()
+        if self._cache.get("tangent_key") != key:
+            omega, _ = self.split(z)
+            self._cache.update(tangent_key=key, tangents=kinematics.tangents(self.q0, self.basis, omega))
+        return self._cache["tangents"]
+
     # -- objective -----------------------------------------------------------------------------------------------
     def parts(self, z: FloatArray) -> EnergyParts:
         key = np.asarray(z, dtype=float).tobytes()
@@ -162,11 +172,11 @@ class Program:
 
     def hess(self, z: FloatArray) -> sp.csc_matrix:
         parts = self.parts(z)
-        rows, cols = _energy_pattern(self.n, self.width)
+        if "energy_pattern" not in self._cache:
+            self._cache["energy_pattern"] = Pattern.of(*_energy_pattern(self.n, self.width), (self.size, self.size))
         data = np.concatenate((parts.diagonal.ravel(), parts.off_diagonal.ravel(),
                                parts.off_diagonal.transpose(0, 2, 1).ravel()))
-        m = self.size
-        return sp.csc_matrix((data, (rows, cols)), shape=(m, m))
+        return self._cache["energy_pattern"].matrix(data)
 
     # -- rows ----------------------------------------------------------------------------------------------------
     def constraints(self) -> list[Any]:
@@ -195,26 +205,24 @@ class Program:
         rows = np.concatenate((r_prev, r_om, r_own))
         cols = np.concatenate((c_prev, c_om, c_own))
         m = self.size
+        jacobian = Pattern.of(rows, cols, (3 * n, m), "csr")
+        hessian = Pattern.of(*_block_diagonal_pattern(n, 0, W), (m, m))
 
         def fun(z: FloatArray) -> FloatArray:
-            omega, p = self.split(z)
-            t = kinematics.tangents(self.q0, self.basis, omega)[0]
+            _, p = self.split(z)
+            t = self.tangents(z)[0]
             return (np.diff(p, axis=0) - lengths[:, None] * t).ravel()
 
         def jac(z: FloatArray) -> sp.csr_matrix:
-            omega, _ = self.split(z)
-            dt = kinematics.tangents(self.q0, self.basis, omega)[1]
+            dt = self.tangents(z)[1]
             data = np.concatenate((np.full(r_prev.size, -s), (-lengths[:, None, None] * dt).ravel(),
                                    np.full(n * 3, s)))
-            return sp.csr_matrix((data, (rows, cols)), shape=(3 * n, m))
-
-        h_rows, h_cols = _block_diagonal_pattern(n, 0, W)
+            return jacobian.matrix(data)
 
         def hess(z: FloatArray, v: FloatArray) -> sp.csc_matrix:
-            omega, _ = self.split(z)
-            ddt = kinematics.tangents(self.q0, self.basis, omega)[2]
+            ddt = self.tangents(z)[2]
             blocks = -lengths[:, None, None] * np.einsum("ki,kiab->kab", np.reshape(v, (n, 3)), ddt)
-            return sp.csc_matrix((blocks.ravel(), (h_rows, h_cols)), shape=(m, m))
+            return hessian.matrix(blocks.ravel())
 
         return {"type": "eq", "fun": fun, "jac": jac, "hess": hess}
 
@@ -249,21 +257,21 @@ class Program:
         radii = node_radii(self.scene, self.lengths)
         rows = np.repeat(np.arange(n), 3)
         cols = (W * np.arange(n)[:, None] + 3 + np.arange(3)).ravel()
-        h_rows, h_cols = _block_diagonal_pattern(n, 3, W)
         m = self.size
+        jacobian = Pattern.of(rows, cols, (n, m), "csr")
+        hessian = Pattern.of(*_block_diagonal_pattern(n, 3, W), (m, m))
 
         def fun(z: FloatArray) -> FloatArray:
             return vessel.lumen_rows(self.split(z)[1][1:], radii)[0]
 
         def jac(z: FloatArray) -> sp.csr_matrix:
             grad = vessel.lumen_rows(self.split(z)[1][1:], radii)[1]
-            data = s * grad.ravel()
-            return sp.csr_matrix((data, (rows, cols)), shape=(n, m))
+            return jacobian.matrix(s * grad.ravel())
 
         def hess(z: FloatArray, v: FloatArray) -> sp.csc_matrix:
-            hessian = vessel.lumen_rows(self.split(z)[1][1:], radii)[2]
-            blocks = s * s * np.asarray(v, dtype=float)[:, None, None] * hessian
-            return sp.csc_matrix((blocks.ravel(), (h_rows, h_cols)), shape=(m, m))
+            lumen_hessian = vessel.lumen_rows(self.split(z)[1][1:], radii)[2]
+            blocks = s * s * np.asarray(v, dtype=float)[:, None, None] * lumen_hessian
+            return hessian.matrix(blocks.ravel())
 
         return {"type": "ineq", "fun": fun, "jac": jac, "hess": hess}
 

@@ -84,6 +84,14 @@ class Tube:
         self.constant_radius = bool(np.all(radius == radius[0]))
         self.radius_curve = None if self.constant_radius else PchipInterpolator(self.breaks, radius)
         self.radius0 = float(radius[0])
+        self.max_radius = float(radius.max())  # (PCHIP does not overshoot: the largest radius anywhere)
+        # the pieces' coefficients side by side, (pieces, 4, 3 + 1): the centre's and the radius's (zero when
+        # constant), highest power first, as scipy's PPoly stores them
+        coef = np.zeros((len(points) - 1, 4, 4))
+        coef[:, :, :3] = np.moveaxis(self.spline.c, 0, 1)
+        if self.radius_curve is not None:
+            coef[:, :, 3] = self.radius_curve.c.T
+        self._coef = coef
         tail_point, tail_d1, _ = self._spline(np.array([self.end]))
         self.tail_point = tail_point[0]
         self.tail_tangent = tail_d1[0] / np.linalg.norm(tail_d1[0])
@@ -97,28 +105,46 @@ class Tube:
         self.samples = value.centre
         self.sample_radius = value.radius
         self.tree = cKDTree(self.samples)
+        # no point of the centreline is farther than this from its nearest sample (half a spacing at the largest
+        # speed |c'| seen at the samples, doubled for the speed between them)
+        self.sample_reach = self.spacing * float(np.max(np.linalg.norm(value.d1, axis=1)))
+        self.box = np.stack((self.samples.min(axis=0), self.samples.max(axis=0)))
 
     # -- evaluation ----------------------------------------------------------------------------------------------
     def _spline(self, u: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         return self.spline(u), self.spline(u, 1), self.spline(u, 2)
+
+    def _pieces(self, u: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Centre and radius (m, 4) with their first and second derivatives at ``u`` in ``[0, end]``: scipy's
+        ``PPoly`` evaluation (the piece ``breaks[i] <= u < breaks[i + 1]``, the last one closed; the terms summed
+        in its order, ``c_j s^p`` times the derivative's factor) for all four curves at once, the same numbers as
+        calling the spline and the PCHIP curve three times each."""
+        i = np.clip(np.searchsorted(self.breaks, u, side="right") - 1, 0, self.breaks.size - 2)
+        s = (u - self.breaks[i])[:, None]
+        c = self._coef[i]
+        c0, c1, c2, c3 = c[:, 0], c[:, 1], c[:, 2], c[:, 3]
+        s2 = s * s
+        value = c3 + c2 * s + c1 * s2 + c0 * (s2 * s)
+        d1 = c2 + (c1 * s) * 2.0 + (c0 * s2) * 3.0
+        d2 = c1 * 2.0 + (c0 * s) * 6.0
+        return value, d1, d2
 
     def evaluate(self, u: FloatArray) -> Closest:
         """Centre, derivatives and radius at ``u`` (clipped to ``[0, end + reach]``; straight past ``end``)."""
         u = np.clip(np.asarray(u, dtype=float), 0.0, self.top)
         inside = u <= self.end
         ui = np.where(inside, u, self.end)
-        c, d1, d2 = self._spline(ui)
+        value, first, second = self._pieces(ui)
         past = (u - self.end)[:, None]
-        c = np.where(inside[:, None], c, self.tail_point + past * self.tail_tangent)
-        d1 = np.where(inside[:, None], d1, self.tail_tangent)
-        d2 = np.where(inside[:, None], d2, 0.0)
+        c = np.where(inside[:, None], value[:, :3], self.tail_point + past * self.tail_tangent)
+        d1 = np.where(inside[:, None], first[:, :3], self.tail_tangent)
+        d2 = np.where(inside[:, None], second[:, :3], 0.0)
         if self.constant_radius:
             r, r1, r2 = np.full(u.size, self.radius0), np.zeros(u.size), np.zeros(u.size)
         else:
-            curve = self.radius_curve
-            r = np.where(inside, curve(ui), self.tail_radius)
-            r1 = np.where(inside, curve(ui, 1), 0.0)
-            r2 = np.where(inside, curve(ui, 2), 0.0)
+            r = np.where(inside, value[:, 3], self.tail_radius)
+            r1 = np.where(inside, first[:, 3], 0.0)
+            r2 = np.where(inside, second[:, 3], 0.0)
         return Closest(u, c, d1, d2, r, r1, r2, u <= 0.0)
 
     # -- the lumen row -------------------------------------------------------------------------------------------
@@ -151,6 +177,21 @@ class Tube:
         hess = np.where(e.at_entrance[:, None, None], hpp, hess)
         return g, grad, hess, e
 
+    def row_bound(self, p: FloatArray, r: FloatArray, floor: FloatArray | None = None) -> FloatArray:
+        """An upper bound (m,) of the lumen row ``g(p) = max_u h(p, u)`` of points ``p`` (m, 3), wire radii ``r``
+        (m,), from the nearest sample alone: ``h = a/2 − |v|²/(2a)`` grows with ``a``, so ``h ≤ (A² − D²)/(2A)``
+        with ``A`` the largest ``a`` anywhere and ``D ≤ |v|`` the sample's distance less :attr:`sample_reach`.
+        The samples' bounding box gives a first, weaker ``D`` at no search: points whose bound from it is already
+        below ``floor`` (m,) keep that bound, and the nearest sample is searched for the others only."""
+        big_a = np.maximum(self.max_radius - r, MIN_GAP)
+        outside = np.maximum(np.maximum(self.box[0] - p, p - self.box[1]), 0.0)
+        bound = _ball_bound(np.sqrt(np.einsum("ij,ij->i", outside, outside)) - self.sample_reach, big_a)
+        near = np.arange(len(p)) if floor is None else np.flatnonzero(bound >= floor)
+        if near.size:
+            distance, _ = self.tree.query(p[near])
+            bound[near] = _ball_bound(distance - self.sample_reach, big_a[near])
+        return bound
+
     def path(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Points and unit tangents at chord parameters ``s`` (≈ arc length from the entrance; straight past the
         end, and before the entrance along the first tangent)."""
@@ -160,6 +201,12 @@ class Tube:
         before = s < 0.0
         c = np.where(before[:, None], e.centre + s[:, None] * t, e.centre)
         return c, t
+
+
+def _ball_bound(low: FloatArray, big_a: FloatArray) -> FloatArray:
+    """``(A² − D²)/(2A)`` with ``D = max(low, 0)``: the largest ``h`` at a distance of at least ``low``."""
+    low = np.maximum(low, 0.0)
+    return 0.5 * (big_a - low * low / big_a)
 
 
 class _Parts:

@@ -171,15 +171,18 @@ class Vessel3D:
         key = (p.tobytes(), r.tobytes())
         memo = self._memo
         if memo.get("key") != key:
-            best = None
-            for tube in self._tubes:
-                g, grad, hess, _ = tube.rows(p, r)
-                if best is None:
-                    best = [g, grad, hess]
-                else:
-                    better = g > best[0]
-                    best = [np.where(better, g, best[0]), np.where(better[:, None], grad, best[1]),
-                            np.where(better[:, None, None], hess, best[2])]
+            g, grad, hess, _ = self._tubes[0].rows(p, r)
+            best = [g.copy(), grad.copy(), hess.copy()]
+            for tube in self._tubes[1:]:
+                # (a branch is evaluated only at the points it might hold better than the tubes before it: its
+                # row is at most the bound of Tube.row_bound, and every row is a function of its own point alone)
+                near = np.flatnonzero(tube.row_bound(p, r, best[0]) >= best[0])
+                if not near.size:
+                    continue
+                g, grad, hess, _ = tube.rows(p[near], r[near])
+                better = g > best[0][near]
+                take = near[better]
+                best[0][take], best[1][take], best[2][take] = g[better], grad[better], hess[better]
             memo.clear()
             memo.update(key=key, value=tuple(best))
         return memo["value"]

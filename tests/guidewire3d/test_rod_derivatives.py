@@ -100,3 +100,22 @@ def test_energy_is_invariant_under_a_rigid_rotation_of_every_frame():
     rotated = StrainEnergy(**{**energy.__dict__, "base": base})
     if energy.half_bar.size == 0:
         assert np.allclose(rotated.value(turned), energy.value(q), rtol=1e-12)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_relative_of_affine_jets_is_the_jet_product(seed):
+    """``relative_affine`` (the bilinear form at once) gives the jet arithmetic's value, gradient and Hessian of
+    ``q̄_a ⊗ q_b`` to rounding, for affine jets in the joint's six variables and for a constant second frame."""
+    from guidewire.rod.jet import Jet
+
+    rng = np.random.default_rng(seed)
+    m = 50
+    qa = [Jet.affine(rng.normal(size=m), np.concatenate((rng.normal(size=(m, 3)), np.zeros((m, 3))), axis=1))
+          for _ in range(4)]
+    qb = [Jet.affine(rng.normal(size=m), np.concatenate((np.zeros((m, 3)), rng.normal(size=(m, 3))), axis=1))
+          for _ in range(4)]
+    star = [Jet.constant(rng.normal(size=m), 6) for _ in range(4)]
+    for a, b in ((qa, qb), (qa, star), (star, qb)):
+        for fast, slow in zip(quat.relative_affine(a, b), quat.relative(a, b), strict=True):
+            for x, y in ((fast.value, slow.value), (fast.grad, slow.grad), (fast.hess, slow.hess)):
+                np.testing.assert_allclose(x, y, rtol=0.0, atol=1e-13 * max(1.0, np.abs(y).max()))

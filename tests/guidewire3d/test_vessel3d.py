@@ -151,3 +151,41 @@ def test_tight_bend_and_self_overlap_are_named():
     coil = [[10 * math.cos(t), 10 * math.sin(t), 0.3 * t] for t in np.linspace(0, 4 * math.pi, 60)]
     with pytest.raises(ValueError, match="comes back within the lumen radius of itself"):
         Vessel3D.from_centreline(coil, 1.0)
+
+
+def _arch() -> Vessel3D:
+    from guidewire.vessel3d.arch import aortic_arch
+
+    return aortic_arch("I")
+
+
+@pytest.mark.parametrize("shape", ["helix", "tortuous", "arch"])
+def test_piecewise_evaluation_is_scipys(shape):
+    """The tube's own evaluation of its pieces gives scipy's spline and PCHIP values bit for bit (at random
+    parameters, every break and both ends)."""
+    vessel = {"helix": helix, "tortuous": tortuous, "arch": _arch}[shape]()
+    rng = np.random.default_rng(5)
+    for tube in vessel.tubes:
+        u = np.concatenate((rng.uniform(0.0, tube.end, 500), tube.breaks))
+        value, first, second = tube._pieces(u)
+        for k, part in enumerate((value, first, second)):
+            assert np.array_equal(part[:, :3], tube.spline(u, k))
+            if tube.radius_curve is not None:
+                assert np.array_equal(part[:, 3], tube.radius_curve(u, k))
+
+
+def test_branch_row_bound_holds_and_lumen_rows_are_the_best_tube():
+    """``Tube.row_bound`` (with or without a floor) is at least the row of its tube at points all over and around
+    the arch's tubes, and the lumen rows (which skip a branch wherever its bound loses) are the best tube's row at
+    every point."""
+    vessel = _arch()
+    rng = np.random.default_rng(3)
+    line = np.vstack(vessel.centrelines(0.5))
+    p = line[rng.integers(0, len(line), 2000)] + rng.normal(0.0, 6.0, (2000, 3))
+    r = np.full(len(p), 0.35)
+    rows = [tube.rows(p, r)[0] for tube in vessel.tubes]
+    floor = rng.uniform(-20.0, 2.0, len(p))  # (with a floor: the bounding box's weaker bound where it is below)
+    for tube, g in zip(vessel.tubes, rows, strict=True):
+        assert np.all(tube.row_bound(p, r) >= g)
+        assert np.all(tube.row_bound(p, r, floor) >= g)
+    assert np.array_equal(vessel.lumen_rows(p, r)[0], np.max(rows, axis=0))

@@ -118,7 +118,7 @@ def plot_solution3d(sol: Solution3D, scene: Scene3D, *, title: str | None = None
         for f in sol.forces:
             ax3.quiver(*f.point, *(f.normal * 3.0), color="tab:red", linewidth=1)
         sm = ScalarMappable(norm=norm, cmap=cmap)
-        fig.colorbar(sm, ax=ax3, shrink=0.6, label="bending stress (MPa)")
+        fig.colorbar(sm, ax=ax3, shrink=0.6, pad=0.12, label="bending stress (MPa)")
     else:
         ax3.plot(p[:, 0], p[:, 1], p[:, 2], color=FAILURE_COLOR, linewidth=2.0)
     ax3.set_xlabel("x (mm)")

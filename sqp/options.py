@@ -8,6 +8,14 @@ from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 from sqp.backends import AUTO, DEFAULT_QP_OPTIONS, auto_choice, check_solver_name, installed_solvers
+from sqp.hessian import DENSE_LIMIT
+
+#: The default ``qp_fallbacks``.
+DEFAULT_QP_FALLBACKS = ("quadprog", "clarabel")
+
+#: Backends that work on dense matrices (their cost O(n^3)), left out of the default fallbacks of a program that
+#: ``qp_solver="auto"`` solves with a sparse backend.
+DENSE_BACKENDS = frozenset({"quadprog", "daqp"})
 
 if TYPE_CHECKING:
     from sqp.problem import Problem
@@ -68,7 +76,9 @@ class Options:
         Try a second-order correction when the full step is rejected (the Maratos-effect remedy).
     qp_fallbacks : tuple of str
         Backends asked, in order, when ``qp_solver`` fails a subproblem even after its retries (skipped when not
-        installed). The iteration table marks such a step ``opt[name]``. ``()`` disables the fallback. OSQP is
+        installed). The iteration table marks such a step ``opt[name]``. ``()`` disables the fallback. With
+        ``qp_solver="auto"`` above :data:`sqp.DENSE_LIMIT` variables the default list drops the dense backends
+        (:data:`DENSE_BACKENDS`): an O(n^3) fallback of a large sparse program is no rescue. OSQP is
         not among the defaults: on the guidewire's aortic arch at 250 bars 52 subproblems failed DAQP, quadprog and
         Clarabel (degenerate elastic QPs the iteration recovers from), where OSQP spent 0.9 s each for a 49 s solve;
         without it 5.8 s and the same answer; Hock–Schittkowski unchanged (115 solved, 0 false successes).
@@ -115,7 +125,7 @@ class Options:
     callback: Callable[[Any], Any] | None = None
     verbose: bool = False
     second_order_correction: bool = True
-    qp_fallbacks: tuple[str, ...] = ("quadprog", "clarabel")
+    qp_fallbacks: tuple[str, ...] = DEFAULT_QP_FALLBACKS
     step_bound: float = float("inf")
     restart: bool = True
     restoration: bool = True
@@ -153,7 +163,13 @@ class Options:
             out = replace(out, feasibility_tol=min(self.tol, FEASIBILITY_TOL) if problem.differenced else self.tol)
         if self.qp_solver != AUTO:
             return out
-        return replace(out, qp_solver=auto_choice(problem.n, problem.sparse_jacobians)[0])
+        out = replace(out, qp_solver=auto_choice(problem.n, problem.sparse_jacobians)[0])
+        if problem.n > DENSE_LIMIT and self.qp_fallbacks == DEFAULT_QP_FALLBACKS:
+            # (a sparse program above the dense limit: a dense backend's O(n^3) fallback is no rescue — quadprog took
+            # 55-111 s a subproblem of a 2 900-variable 3-D arch step where Clarabel took 0.7-1.1 s for the same
+            # step, and 2.3 s each of 11 subproblems of a 960-variable 2-D S-bend)
+            out = replace(out, qp_fallbacks=tuple(b for b in self.qp_fallbacks if b not in DENSE_BACKENDS))
+        return out
 
     @property
     def backend_options(self) -> dict[str, Any]:

@@ -74,3 +74,22 @@ def test_options_resolve_per_problem():
     assert sqp.Options(qp_solver="osqp").for_problem(problem).qp_solver == "osqp"
     with pytest.raises(ValueError, match="for_problem"):
         _ = sqp.Options().backends
+
+
+@pytest.mark.parametrize(("n", "sparse"), [(sqp.DENSE_LIMIT - 10, True), (sqp.DENSE_LIMIT + 10, True),
+                                           (sqp.DENSE_LIMIT + 10, False), (4 * sqp.DENSE_LIMIT, True)])
+def test_a_large_program_falls_back_to_sparse_backends_only(n, sparse):
+    """``qp_solver="auto"`` above DENSE_LIMIT picks a sparse backend, and its default fallbacks leave out the dense
+    ones (an O(n^3) rescue of a large program took 55-111 s a subproblem where Clarabel took ~1 s); at or below the
+    limit, and whenever the caller names the fallbacks or the backend, they stay as given."""
+    from sqp.build import build_problem
+    from sqp.options import DEFAULT_QP_FALLBACKS, DENSE_BACKENDS
+
+    problem = build_problem(**_quadratic(n, sparse), bounds=None)
+    auto = sqp.Options().for_problem(problem)
+    large = n > sqp.DENSE_LIMIT
+    expected = tuple(b for b in DEFAULT_QP_FALLBACKS if not (large and b in DENSE_BACKENDS))
+    assert auto.qp_fallbacks == expected
+    assert not large or all(name not in DENSE_BACKENDS for name, _ in auto.backends)
+    assert sqp.Options(qp_fallbacks=("quadprog",)).for_problem(problem).qp_fallbacks == ("quadprog",)
+    assert sqp.Options(qp_solver="piqp").for_problem(problem).qp_fallbacks == DEFAULT_QP_FALLBACKS

@@ -89,3 +89,19 @@ def test_the_augmented_lagrangian_term_on_contact_rows_stays_on_the_rows_in_cont
     assert plain.success and held.success
     assert held.iterations <= 12, held.iterations
     assert held.energy == pytest.approx(plain.energy, rel=1e-8)
+
+
+@pytest.mark.parametrize("name", ["s_bend", "tortuous"])
+def test_compressed_vessels_above_the_dense_limit_solve_in_the_full_space(name):
+    """A wire pressed on both walls (S-bend, tortuous vessel) at 320 bars: the automatic layout solves it in the full
+    space (its QPs on the guessed active set, where the augmented-Lagrangian term that makes the Hessian definite is
+    constant), no fallback to the dense program (which took 50 s for the S-bend), and the reduced program started from
+    that answer stays there: the same energy to 1e-7 and nodes to 1e-5 mm."""
+    scene = guidewire.load_scene(VESSELS / f"{name}.toml")
+    full = guidewire.solve(scene, bars=320, branches="first")
+    assert full.success and full.layout == "full", full.message
+    reduced = guidewire.solve(scene, bars=320, layout="reduced", branches="first", initial_angles=full.bar_angles,
+                              multipliers0=full)
+    assert reduced.success and reduced.iterations <= 6
+    assert full.energy == pytest.approx(reduced.energy, rel=1e-7)
+    assert np.max(np.abs(full.nodes - reduced.nodes)) < 1e-5

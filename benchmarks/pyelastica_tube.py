@@ -61,13 +61,15 @@ and its stretch (strain 2e-4). Both find the same contact nodes with the tip for
 first contact, near the clamp, differs most (0.25 against 0.11–0.22 N: PyElastica's rigid first element). Energies
 agree to 1.4 % (case b twist energy 2.53 against 2.51–2.52 N·mm). PyElastica's nodes sit 0.014 mm outside the lumen
 at k = 100 N/mm and 0.00014 mm at k = 10 000 (F/k; ours: < 1e-10 mm), and k barely changes its time (the rod's own
-time step binds). Time to equilibrium: PyElastica 3.1–13 s (117 500–186 000 steps); ours cold 57 ms–1.2 s in
-8–44 SQP iterations except case (a) at n = 25, 12 s in 386 iterations (PyElastica is 4× faster there), so
-PyElastica / ours cold = 0.26 (that row), 10–89 otherwise; by insertion in 25 warm-started steps ours takes
-0.43–1.6 s, 4.6–11× less than PyElastica. In the tube the gap is far smaller than on the free cantilever
-(110–450×, ``pyelastica.md``): our solve pays for contact (more iterations, an erratic cold start), PyElastica's
-settling time does not grow. A side finding: our J wire pushed in at 0° and then turned in 15° steps fails at the
-60° step (iteration limit), so the insertion here is done with the clamp already turned.
+time step binds). Time to equilibrium (the last run, on a loaded machine: both codes slower than the run before):
+PyElastica 4.0–28 s (117 500–186 000 steps); ours cold 95–530 ms in 10–14 SQP iterations, PyElastica / ours
+cold = 18–116; by insertion in 25 warm-started steps ours takes 0.49–2.8 s, 4.3–22× less than PyElastica. (The run
+before the ``robust3d`` fixes: ours cold 57 ms–1.2 s in 8–44 iterations except case (a) at n = 25, 12 s in 386
+iterations, PyElastica 4× faster there: the centreline start hid the lumen from the first QP, whose first steps
+are now bounded.) In the tube the gap is smaller than on the free cantilever (110–450×, ``pyelastica.md``): our solve
+pays for contact (more iterations), PyElastica's settling time does not grow. Our J wire pushed in at 0° and then
+turned in 15° steps failed at the 60° step (a fold: the J snaps); the insertion now solves such a step from the
+built-in start and turns on, but the insertion here is still done with the clamp already turned.
 
 Usage: ``python benchmarks/pyelastica_tube.py [--quick] [--repeats K] [--out DIR] [--stiffness K1,K2] [--cases ab]``;
 writes ``pyelastica_tube.{md,csv}`` (``pyelastica_tube_quick.*`` with ``--quick``: case (a), n = 25, the stiffest k,

@@ -141,6 +141,8 @@ class Options:
                              "or None for min(tol, 1e-10).")
         if isinstance(self.max_iter, bool) or not isinstance(self.max_iter, int) or self.max_iter < 0:
             raise ValueError(f"max_iter = {self.max_iter!r}; expected a nonnegative integer.")
+        if not isinstance(self.step_bound, int | float) or not self.step_bound > 0:
+            raise ValueError(f"step_bound = {self.step_bound!r}; expected a positive number (inf: no bound).")
         if not isinstance(self.qp_solver, str):
             raise TypeError(f"qp_solver must be a backend name (str) or 'auto'; got {type(self.qp_solver).__name__}.")
         check_solver_name(self.qp_solver)

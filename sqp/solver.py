@@ -74,6 +74,7 @@ def minimize(
     convexify_inequalities: bool = True,
     qp_fallbacks: tuple[str, ...] | None = None,
     active_set_guess: bool = False,
+    step_bound: float = float("inf"),
 ) -> Result:
     """Minimise ``fun(x, *args)`` subject to bounds and constraints by SQP; scipy's ``minimize(method="SLSQP")`` call.
 
@@ -158,6 +159,11 @@ def minimize(
     active_set_guess : bool
         Solve each sparse QP with inequality rows first on the active set the last multipliers guess, the backends
         asked only when that fails (:attr:`sqp.Options.active_set_guess`).
+    step_bound : float
+        Largest change of any variable in each of the first :data:`~sqp.termination.RESTART_BOUNDED_ITERATIONS`
+        steps (a box trust region on those QPs, :attr:`sqp.Options.step_bound`); ``inf`` (the default): none. For a
+        start whose linearisation misleads (a constraint gradient that vanishes there, so that the first QP does
+        not see the row at all).
 
     Returns
     -------
@@ -197,6 +203,7 @@ def minimize(
                        qp_options=dict(qp_options or {}),
                        callback=adapt_callback(callback), verbose=call.table,
                        convexify_inequalities=bool(convexify_inequalities), active_set_guess=bool(active_set_guess),
+                       step_bound=float(step_bound),
                        **({} if qp_fallbacks is None else {"qp_fallbacks": tuple(qp_fallbacks)}))
     problem = build_problem(fun, x0, jac, bounds, constraints, args, hess, call.differences)
     if problem.hess is not None and hess0 is not None:  # exact Hessians replace it: check the shape only

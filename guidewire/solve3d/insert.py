@@ -132,13 +132,27 @@ def advance(scene: Scene3D, previous: Solution3D, length: float, turn: float, de
     """The step from ``previous`` to ``(length, turn)``, split in halves (recursively, :data:`MAX_HALVINGS` times)
     while a warm-started solve does not converge within :data:`STEP_MAX_ITER` iterations: a wire whose tip meets a
     wall, or a J-tip that snaps, moves far in one step, and shorter steps keep each start near its answer. All the
-    solves of one step share ``options["max_iter"]`` (default :data:`STEP_BUDGET`) iterations, so a step that cannot
-    be followed ends in bounded time, failed, with the message of its last solve. The answer carries
+    solves of one step share ``options["max_iter"]`` (default :data:`STEP_BUDGET`) iterations. A step that cannot be
+    followed so (a fold: a J wire turned in a curved tube snaps) is solved once more from the built-in start
+    (:func:`solve3d` without a warm start, as many iterations again), whose answer, when it converges, is the step's
+    (``extras["cold"]`` True); otherwise the step fails with the message of its last warm solve. The answer carries
     ``extras["substeps"]`` (solves made) and ``extras["step_iterations"]`` (their iterations)."""
     budget = [int(options.get("max_iter", STEP_BUDGET))]
     rest = {key: value for key, value in options.items() if key != "max_iter"}
     sol = _advance(scene, previous, length, turn, density, rest, 0, budget)
-    sol.extras["step_iterations"] = int(options.get("max_iter", STEP_BUDGET)) - budget[0]
+    spent = int(options.get("max_iter", STEP_BUDGET)) - budget[0]
+    if not sol.success:
+        # (a fold: the branch followed ends, no short step reaches the next equilibrium, and the warm starts crawl
+        # along the negative curvature under an identity shift of 100-900, |d| ~ 1e-4; the wire snaps, and the
+        # built-in start with its bounded first steps reaches the equilibrium it snaps to)
+        cold = solve3d(scene_at(scene, length, turn, density), max_iter=int(options.get("max_iter", STEP_BUDGET)),
+                       **rest)
+        spent += cold.iterations
+        if cold.success:
+            cold.extras["substeps"] = sol.extras.get("substeps", 1) + 1
+            cold.extras["cold"] = True
+            sol = cold
+    sol.extras["step_iterations"] = spent
     return sol
 
 

@@ -56,6 +56,19 @@ def test_step_bound_limits_every_step_and_gives_no_certificate_at_the_bound():
     assert res.success and res.x[0] == pytest.approx(5.0, abs=1e-8) and res.nit == RESTART_BOUNDED_ITERATIONS
 
 
+@pytest.mark.parametrize(("name", "bound"), [("HS28", 0.25), ("HS71", 0.1), ("HS100", 0.5)])
+def test_minimize_takes_the_step_bound(name, bound):
+    """``sqp.minimize(step_bound=...)`` is the options' bound: the first steps within it (in every component), the
+    same problem solved; a bound that is not positive is refused."""
+    prob = BUILDERS[name]()
+    res = sqp.minimize(prob.fun, prob.x0, jac=prob.jac, bounds=prob.bounds, constraints=prob.constraints,
+                       step_bound=bound)
+    assert res.success and judge(prob, res.x).solved, res.message
+    assert max(rec.step for rec in res.history[:RESTART_BOUNDED_ITERATIONS]) <= bound * (1 + 1e-12)
+    with pytest.raises(ValueError, match="step_bound"):
+        sqp.minimize(prob.fun, prob.x0, jac=prob.jac, constraints=prob.constraints, step_bound=0.0)
+
+
 def _hanging_chain(links: int) -> dict:
     """A chain of ``links`` equal links hanging between (0, 0) and (1, 0), total length 1.5, written as a new user
     would: the heights' sum as the objective, one equality per link on its squared length, dense Jacobian."""

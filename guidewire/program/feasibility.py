@@ -119,24 +119,47 @@ def vessel_fit(scene: Scene) -> str | None:
     half = 0.5 * scene.wire.diameter
     fix = f"widen the lumen or use a thinner wire (wire.diameter = {_fmt(scene.wire.diameter)} mm)"
     if vessel.walls:
-        s = np.linspace(0.0, vessel.length, 401)
-        width = vessel.radius_at(s)
-        i = int(np.argmin(width))
-        if width[i] <= half:
-            p, _ = vessel.path(s[i : i + 1])
-            return (f"the vessel's walls are {2.0 * width[i]:.4g} mm apart near {_fmt_point(p[0])}, not wider than the "
+        width, s = _narrowest_walls(vessel)
+        if width <= half:
+            p, _ = vessel.path(np.array([s]))
+            return (f"the vessel's walls are {2.0 * width:.4g} mm apart near {_fmt_point(p[0])}, not wider than the "
                     f"wire (d = {_fmt(scene.wire.diameter)} mm); {fix}")
         return None
+    for name, where, radius in _narrowest_tubes(vessel):
+        if radius <= half:
+            return (f"{name}{where} is {_fmt(radius)} mm, not larger than the wire's radius d/2 = "
+                    f"{_fmt(half)} mm: the wire does not fit; {fix}")
+    return None
+
+
+@lru_cache(maxsize=8)
+def _narrowest_walls(vessel: Any) -> tuple[float, float]:
+    """Half the least distance (mm) of a two-wall vessel's walls along its midline, of 401 arc lengths, and that arc
+    length (computed once per vessel: an insertion checks every step's scene)."""
+    s = np.linspace(0.0, vessel.length, 401)
+    width = vessel.radius_at(s)
+    i = int(np.argmin(width))
+    return float(width[i]), float(s[i])
+
+
+@lru_cache(maxsize=8)
+def _narrowest_tubes(vessel: Any) -> tuple[tuple[str, str, float], ...]:
+    """(name, where, least radius in mm) of the main tube and every branch, in that order (computed once per
+    vessel)."""
     tubes = [("vessel.radius", vessel.centreline, vessel.radius)]
     tubes += [(f"vessel.branch[{i}].radius", b.centreline, b.radius) for i, b in enumerate(vessel.branches)]
+    out = []
     for name, line, radius in tubes:
         radii = np.broadcast_to(np.asarray(radius, dtype=float), (len(line),))
         i = int(np.argmin(radii))
-        if radii[i] <= half:
-            where = f"[{i}] at {_fmt_point(line[i])}" if isinstance(radius, tuple) else ""
-            return (f"{name}{where} is {_fmt(float(radii[i]))} mm, not larger than the wire's radius d/2 = "
-                    f"{_fmt(half)} mm: the wire does not fit; {fix}")
-    return None
+        out.append((name, f"[{i}] at {_fmt_point(line[i])}" if isinstance(radius, tuple) else "", float(radii[i])))
+    return tuple(out)
+
+
+@lru_cache(maxsize=8)
+def _entrance_radius(vessel: Any) -> float:
+    """The main tube's radius (mm) at the entrance (computed once per vessel)."""
+    return float(vessel.radius_at(0.0)[0])
 
 
 def vessel_positions(scene: Scene) -> str | None:
@@ -174,7 +197,7 @@ def vessel_direction(scene: Scene) -> str | None:
     vessel, angle = scene.vessel, scene.base.angle
     if vessel is None or angle is None:
         return None
-    scale = max(1.0, float(vessel.radius_at(0.0)[0]))
+    scale = max(1.0, _entrance_radius(vessel))
     if math.dist(scene.base.point, vessel.entrance_point) > ENTRANCE_TOLERANCE * scale:
         return None
     into = vessel.entrance_angle

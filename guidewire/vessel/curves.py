@@ -274,16 +274,18 @@ class Tubes:
     def closest_pairs(self, q: FloatArray, k: NDArray[np.intp]) -> dict[str, FloatArray]:
         """:meth:`closest` for the pairs (point ``q[i]``, curve ``k[i]``) only (elementwise: the same answer for a
         pair whichever others are asked with it)."""
-        u = np.empty(len(q))
-        for i, tree in enumerate(self.trees):
-            mine = k == i
-            if mine.all():
-                u = self.curves[i].u[tree.query(q)[1]] + self.offsets[i]
-            elif mine.any():
-                u[mine] = self.curves[i].u[tree.query(q[mine])[1]] + self.offsets[i]
         pairs = k
         if len(k) and np.all(k == k[0]):
             k = int(k[0])  # one curve: its data as scalars, broadcast (the same arithmetic, fewer gathers)
+            u = self.curves[k].u[self.trees[k].query(q)[1]] + self.offsets[k]  # (its tree only)
+        else:
+            u = np.empty(len(q))
+            for i, tree in enumerate(self.trees):
+                mine = k == i
+                if mine.all():
+                    u = self.curves[i].u[tree.query(q)[1]] + self.offsets[i]
+                elif mine.any():
+                    u[mine] = self.curves[i].u[tree.query(q[mine])[1]] + self.offsets[i]
         lo, hi, h = self.lo[k], self.hi[k], self.h[k]
         for step_number in range(NEWTON_STEPS + 1):
             value, d1, d2 = self.evaluate(u, k)

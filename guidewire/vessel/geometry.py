@@ -44,47 +44,84 @@ CORNER_TOLERANCE = 1e-3
 fraction of the largest radius of 0 (the sampled walls are chords of the true ones)."""
 
 MEMO_SIZE = 4
-"""Answers of :meth:`Vessel.clearance` a vessel keeps (see :class:`Memo`)."""
+"""Queries of :meth:`Vessel.clearance` and :meth:`Vessel.far_side` a vessel keeps (see :class:`Memo`)."""
+
+Record = dict[str, NDArray[Any]]
+
+RECORD_KEYS = ("u", "k", "source", "v", "r", "radius", "centre", "t", "kappa")
+"""What a :class:`TubeGeometry` record keeps of the search, per point."""
+"""The closest-point search's answer for ``m`` points, every array's first axis the point (see :meth:`Memo.get`)."""
 
 
 class Memo:
-    """The last :data:`MEMO_SIZE` answers (least recently used dropped first) of :meth:`Vessel.clearance`, keyed by
-    the points' exact bytes (and shape). It belongs to one vessel's geometry, which never changes, so an answer can
-    never be stale; the answer's arrays are made read-only, since every caller shares them. Thread-safe.
+    """The last :data:`MEMO_SIZE` queries (least recently used dropped first) of :meth:`Vessel.clearance` and
+    :meth:`Vessel.far_side`, keyed by the points' exact bytes (and shape): for each, the closest-point search's
+    :data:`Record` and the answers derived from it (the nearest wall, the far one). It belongs to one vessel's
+    geometry, which never changes, so an answer can never be stale; the answers' arrays are made read-only, since
+    every caller shares them. Thread-safe.
 
-    Every point's answer depends on that point alone (the closest-point search is elementwise), so points that begin
-    with a kept query's points — an insertion step starts from the previous answer with bars added at the tip — reuse
-    its answer for those rows and compute only the rest."""
+    The near and the far wall of a point come from one search, made once for both: a lumen block asks for both at
+    the start nodes, then the checks ask for the near one at the answer.
+
+    Every point's answer depends on that point alone (the closest-point search and what is derived from it are
+    elementwise), so points that begin with a kept query's points — an insertion step starts from the previous answer
+    with bars added at the tip — reuse its record and answers for those rows and compute only the rest."""
 
     def __init__(self) -> None:
-        self._answers: dict[tuple[tuple[int, ...], bytes], tuple[FloatArray, Clearance]] = {}
+        self._answers: dict[tuple[tuple[int, ...], bytes], _Entry] = {}
         self._lock = threading.Lock()
 
-    def get(self, points: FloatArray, compute: Any) -> Clearance:
+    def get(self, points: FloatArray, kind: str, search: Any, derive: Any) -> Clearance:
+        """The answer of ``kind`` (``"near"`` or ``"far"``) for ``points``: ``derive(record, kind)`` of the
+        ``search(points)`` record, each made only for the points no kept query gives."""
         key = (points.shape, points.tobytes())
         with self._lock:
-            hit = self._answers.pop(key, None)
-            if hit is not None:
-                self._answers[key] = hit  # now the most recently used
-                return hit[1]
-            prefix = max(((p, c) for p, c in self._answers.values()
-                          if 0 < len(p) < len(points) and np.array_equal(p, points[:len(p)])),
-                         key=lambda pc: len(pc[0]), default=None)
-        if prefix is None:
-            out = compute(points)
+            entry = self._answers.pop(key, None)
+            if entry is not None:
+                self._answers[key] = entry  # now the most recently used
+                if kind in entry.answers:
+                    return entry.answers[kind]
+            else:
+                prefix = max((e for e in self._answers.values()
+                              if 0 < len(e.points) < len(points) and np.array_equal(e.points, points[:len(e.points)])),
+                             key=lambda e: len(e.points), default=None)
+        if entry is None:
+            if prefix is None:
+                entry = _Entry(points, search(points), None)
+            else:
+                rest = search(points[len(prefix.points):])
+                entry = _Entry(points, {name: np.concatenate((prefix.record[name], rest[name])) for name in rest},
+                               (len(prefix.points), prefix.answers))
+        known = entry.source[1].get(kind) if entry.source is not None else None
+        if known is None:
+            out = derive(entry.record, kind)
         else:
-            known, rest = prefix[1], compute(points[len(prefix[0]):])
-            out = Clearance(**{name: np.concatenate((getattr(known, name), getattr(rest, name)))
+            start = entry.source[0]
+            new = derive({name: value[start:] for name, value in entry.record.items()}, kind)
+            out = Clearance(**{name: np.concatenate((getattr(known, name), getattr(new, name)))
                                for name in ("distance", "normal", "boundary", "curvature")})
         for value in (out.distance, out.normal, out.boundary, out.curvature):
             value.flags.writeable = False
-        kept = points.copy()
-        kept.flags.writeable = False
         with self._lock:
-            while len(self._answers) >= MEMO_SIZE:
-                del self._answers[next(iter(self._answers))]
-            self._answers[key] = (kept, out)
+            entry.answers[kind] = out
+            if key not in self._answers:
+                while len(self._answers) >= MEMO_SIZE:
+                    del self._answers[next(iter(self._answers))]
+                self._answers[key] = entry
         return out
+
+
+class _Entry:
+    """One query a :class:`Memo` keeps: its points, the search's record, the answers derived so far (by kind), and
+    where its first rows came from (the length of the kept query it extends and that query's answers) or None."""
+
+    def __init__(self, points: FloatArray, record: Record, source: tuple[int, dict[str, Clearance]] | None) -> None:
+        self.points = points.copy()
+        self.record = record
+        self.answers: dict[str, Clearance] = {}
+        self.source = source
+        for value in (self.points, *record.values()):
+            value.flags.writeable = False
 
 
 class TubeGeometry:
@@ -181,27 +218,40 @@ class TubeGeometry:
             out[candidates] = np.isin(best["source"][flat], (2, 3))
         return out
 
-    def clearance(self, p: FloatArray) -> Clearance:
-        return self._wall(p, 1.0)
+    def search(self, p: FloatArray) -> Record:
+        """The closest-point search's answer for every point (:data:`Record`): :meth:`best`'s, of the tube it
+        picks."""
+        best, flat = self.best(p)
+        return {name: best[name][flat] for name in RECORD_KEYS}
 
-    def far_side(self, p: FloatArray) -> Clearance:
-        """The wall across the lumen from the nearest one (:meth:`Vessel.far_side`): through the centre of the
-        nearest disk, on its other side; ``distance`` inf where that point is not on the lumen's boundary (an
-        entrance cap, a branch's opening)."""
-        far = self._wall(p, -1.0)
+    def derive(self, record: Record, kind: str) -> Clearance:
+        """The nearest wall (``kind = "near"``) or the far one (``"far"``, :meth:`far_side`) of a :meth:`search`
+        record."""
+        if kind == "near":
+            return self._wall(record, 1.0)
+        far = self._wall(record, -1.0)
         check = self.clearance(far.boundary)
         gone = check.distance > FAR_WALL_TOLERANCE * far.distance
         return Clearance(distance=np.where(gone, np.inf, far.distance), normal=far.normal, boundary=far.boundary,
                          curvature=far.curvature)
 
-    def _wall(self, p: FloatArray, across: float) -> Clearance:
-        """The nearest wall (``across = 1``) or the one across the nearest disk (``across = −1``): signed distance
-        along the disk's radius, outward normal, wall point and its curvature."""
+    def clearance(self, p: FloatArray) -> Clearance:
+        return self._wall(self.search(p), 1.0)
+
+    def far_side(self, p: FloatArray) -> Clearance:
+        """The wall across the lumen from the nearest one (:meth:`Vessel.far_side`): through the centre of the
+        nearest disk, on its other side; ``distance`` inf where that point is not on the lumen's boundary (an
+        entrance cap, a branch's opening)."""
+        return self.derive(self.search(p), "far")
+
+    def _wall(self, record: Record, across: float) -> Clearance:
+        """The nearest wall (``across = 1``) or the one across the nearest disk (``across = −1``) of the points of a
+        :meth:`search` record: signed distance along the disk's radius, outward normal, wall point and its
+        curvature."""
         tubes = self.tubes
-        best, flat = self.best(p)
-        u, k, source = best["u"][flat], best["k"][flat], best["source"][flat]
-        v, r, radius, centre = best["v"][flat], best["r"][flat], best["radius"][flat], best["centre"][flat]
-        tangent, kappa = best["t"][flat], best["kappa"][flat]
+        u, k, source = record["u"], record["k"], record["source"]
+        v, r, radius, centre = record["v"], record["r"], record["radius"], record["centre"]
+        tangent, kappa = record["t"], record["kappa"]
         left = np.column_stack((-tangent[:, 1], tangent[:, 0]))
         on_axis = r <= 1e-12 * np.maximum(radius, 1.0)
         e = across * np.where(on_axis[:, None], left, v / np.where(on_axis, 1.0, r)[:, None])
@@ -381,14 +431,25 @@ class WallGeometry:
         self.answers = Memo()
         self.entrance = curve_entrance(self.main)
 
-    def clearance(self, p: FloatArray) -> Clearance:
-        return self._wall(p, 1.0)
+    def search(self, p: FloatArray) -> Record:
+        """The closest-point search on both walls (:meth:`Tubes.closest`) as a :data:`Record`: arrays of shape
+        (m, 2, ...), the point first, then the wall."""
+        best, m = self.tubes.closest(p), len(p)
+        return {name: np.swapaxes(best[name].reshape((2, m) + best[name].shape[1:]), 0, 1)
+                for name in ("k", "v", "r", "t", "kappa", "centre")}
 
-    def _wall(self, p: FloatArray, across: float) -> Clearance:
-        """The nearer wall (``across = 1``) or the other one (``across = −1``)."""
-        tubes = self.tubes
-        m = len(p)
-        best = tubes.closest(p)
+    def derive(self, record: Record, kind: str) -> Clearance:
+        """The nearer wall (``kind = "near"``) or the other one (``"far"``) of a :meth:`search` record."""
+        return self._wall(record, 1.0 if kind == "near" else -1.0)
+
+    def clearance(self, p: FloatArray) -> Clearance:
+        return self._wall(self.search(p), 1.0)
+
+    def _wall(self, record: Record, across: float) -> Clearance:
+        """The nearer wall (``across = 1``) or the other one (``across = −1``) of the points of a :meth:`search`
+        record."""
+        m = len(record["k"])
+        best = {name: np.swapaxes(value, 0, 1).reshape((2 * m,) + value.shape[2:]) for name, value in record.items()}
         k, v, r, kappa = best["k"], best["v"], best["r"], best["kappa"]
         left = np.column_stack((-best["t"][:, 1], best["t"][:, 0]))
         side = self.side[k]
@@ -408,7 +469,7 @@ class WallGeometry:
 
     def far_side(self, p: FloatArray) -> Clearance:
         """The other wall (:meth:`Vessel.far_side`)."""
-        return self._wall(p, -1.0)
+        return self._wall(self.search(p), -1.0)
 
     def past_end(self, p: FloatArray) -> NDArray[np.bool_]:
         return np.zeros(len(p), dtype=bool)

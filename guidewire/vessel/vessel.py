@@ -273,7 +273,8 @@ class Vessel:
             step at the same base every step — are answered without work.
         """
         p = np.asarray(points, dtype=float).reshape(-1, 2)
-        return self._geometry.answers.get(p, self._geometry.clearance)
+        geometry = self._geometry
+        return geometry.answers.get(p, "near", geometry.search, geometry.derive)
 
     @property
     def corners(self) -> FloatArray:
@@ -302,7 +303,8 @@ class Vessel:
             entrance cap, in a branch's opening).
         """
         p = np.asarray(points, dtype=float).reshape(-1, 2)
-        return self._geometry.far_side(p)
+        geometry = self._geometry
+        return geometry.answers.get(p, "far", geometry.search, geometry.derive)
 
     def past_end(self, points: ArrayLike) -> NDArray[np.bool_]:
         """Whether each point lies beyond a tube's far end (in the straight continuation that lets a tip leave the

@@ -356,6 +356,38 @@ def test_clearance_of_points_extending_a_kept_query_equals_a_fresh_one():
         np.testing.assert_array_equal(getattr(longer, name), getattr(direct, name), err_msg=name)
 
 
+def _fresh(vessel: Vessel) -> Vessel:
+    """The same vessel built anew (its own memo)."""
+    if vessel.walls:
+        return Vessel.from_walls(*vessel.walls)
+    return Vessel.from_centreline(vessel.centreline, vessel.radius, vessel.branches)
+
+
+@pytest.mark.parametrize("name", ["aortic_arch", "tortuous", "bend", "s_bend_branch", "straight_channel", "branched"])
+def test_near_and_far_walls_from_one_kept_search_equal_separate_fresh_queries(name):
+    """The memo searches once for the near and the far wall of the same points, extends a kept query by its new rows
+    only (its record and each answer derived so far), in any order of asking: every answer equals that of a fresh
+    vessel's geometry asked directly, bit for bit."""
+    vessel = _branched() if name == "branched" else load_scene(VESSELS / f"{name}.toml").vessel
+    lines = np.concatenate(vessel.wall_lines())
+    box = (*np.sort([lines[:, 0].min(), lines[:, 0].max()]), *np.sort([lines[:, 1].min(), lines[:, 1].max()]))
+    p = _inside(vessel, np.random.default_rng(3), 90, box)
+    p[::7] += 0.5 * np.random.default_rng(4).normal(size=p[::7].shape)  # some outside or near the walls
+    geometry = _fresh(vessel)._geometry
+    expected = {"near": geometry.clearance(p), "far": geometry.far_side(p)}
+    for order in (("near", "far"), ("far", "near")):
+        memo = _fresh(vessel)
+        ask = {"near": memo.clearance, "far": memo.far_side}
+        for cut in (30, 60):  # a kept query, then one extending it, with both answers asked in ``order``
+            for kind in order:
+                ask[kind](p[:cut])
+        for kind in order[::-1]:
+            got, direct = ask[kind](p), expected[kind]
+            for field in ("distance", "normal", "boundary", "curvature"):
+                np.testing.assert_array_equal(getattr(got, field), getattr(direct, field), err_msg=f"{kind} {field}")
+            assert ask[kind](p.copy()) is got  # asked again: the kept answer
+
+
 @pytest.mark.parametrize("shift", [0.0, 5.0, -5.0, 10.0])
 def test_a_centreline_coming_back_onto_itself_names_the_two_distant_stretches(shift):
     """A loop that returns across its own start: the message names one point at each stretch (points 1 and 6 or

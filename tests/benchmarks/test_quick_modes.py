@@ -9,9 +9,11 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-#: pyelastica.py needs the optional PyElastica and has its own test (tests/test_benchmark_pyelastica.py).
+#: Scripts that need the optional PyElastica (the bench extra): run only where it is installed. pyelastica.py has its
+#: own test as well (tests/test_benchmark_pyelastica.py).
+NEEDS_PYELASTICA = ("pyelastica.py", "pyelastica_tube.py")
 SCRIPTS = sorted(p.name for p in (ROOT / "benchmarks").glob("*.py")
-                 if not p.name.startswith("_") and p.name != "pyelastica.py")
+                 if not p.name.startswith("_") and p.name not in NEEDS_PYELASTICA)
 
 
 @pytest.mark.parametrize("script", SCRIPTS)
@@ -24,3 +26,8 @@ def test_quick_mode_runs(script, tmp_path):
     written = list(tmp_path.glob("*.md"))
     assert written, f"{script} --quick wrote no Markdown table"
     assert "|" in written[0].read_text()
+
+
+def test_quick_mode_of_the_pyelastica_tube_runs(tmp_path):
+    pytest.importorskip("elastica", reason="benchmarks/pyelastica_tube.py needs PyElastica (the bench extra)")
+    test_quick_mode_runs("pyelastica_tube.py", tmp_path)

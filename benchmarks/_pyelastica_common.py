@@ -17,6 +17,18 @@ from typing import Any
 
 import numpy as np
 
+
+def round_section(diameter: float) -> tuple[float, float, float]:
+    """Radius (mm), area (mm²) and second moment of area (mm⁴) of a round wire of ``diameter`` (mm)."""
+    r = diameter / 2.0
+    return r, math.pi * r * r, math.pi * diameter**4 / 64.0
+
+
+def cantilever_first_mode(youngs: float, diameter: float, density: float, length: float) -> float:
+    """ω₁ (rad/s) of a straight round cantilever: 1.875² √(EI / (ρ A L⁴)) (MPa, mm, t/mm³, mm)."""
+    _, area, inertia = round_section(diameter)
+    return 1.875**2 * math.sqrt(youngs * inertia / (density * area * length**4))
+
 try:
     import elastica as ea
 except ImportError:  # pragma: no cover - exercised only without the bench extra

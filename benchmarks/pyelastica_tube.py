@@ -262,14 +262,12 @@ CASES = (Case("a: straight wire in the helix", False, 0.0),
 
 def section() -> tuple[float, float, float]:
     """Radius (mm), area (mm²) and second moment of area (mm⁴) of the round wire."""
-    r = DIAMETER / 2.0
-    return r, math.pi * r * r, math.pi * DIAMETER**4 / 64.0
+    return P.round_section(DIAMETER)
 
 
 def first_mode() -> float:
     """ω₁ (rad/s) of the straight cantilever of length L: 1.875² √(EI / (ρ A L⁴))."""
-    _, area, inertia = section()
-    return 1.875**2 * math.sqrt(YOUNGS * inertia / (DENSITY * area * LENGTH**4))
+    return P.cantilever_first_mode(YOUNGS, DIAMETER, DENSITY, LENGTH)
 
 
 def vessel() -> Any:

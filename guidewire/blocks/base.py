@@ -228,6 +228,13 @@ class Block:
         :func:`guidewire.solve` solves again from ``phi`` while any block refines."""
         return None
 
+    def mismatch(self, model: Model, phi: FloatArray) -> tuple[float, int] | None:
+        """Where the rows stand least for the constraint they model at ``phi``: the largest difference (in
+        :attr:`unit`) between a row's value and the true constraint's at a row that holds the wire (its node
+        touching), and that node; None when the rows are exact (default). Names the defect of an answer whose
+        working-set rounds ran out before :meth:`refine` settled."""
+        return None
+
     def contact_normals(self, scene: Any) -> FloatArray | None:
         """Outward unit normals (shape (rows, 2)) of a block whose multipliers are normal contact forces at its
         nodes (walls, lumens), for :meth:`Solution.contacts`; None for the other kinds (default)."""

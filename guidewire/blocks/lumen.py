@@ -241,6 +241,24 @@ class Lumen(Block):
         points = model.chain.nodes(phi)
         slack = self.slack(model, points)
         violated = np.flatnonzero(slack < -tolerance) + 1
+        gap = self._touching_gap(model, points, slack)
+        if not violated.size and not np.any(gap > PLANE_TOLERANCE * tolerance):
+            return None
+        nodes = grown_by_neighbours(np.unique(self.nodes), violated, model.n)
+        return replace(self._modelled(model, nodes, points), index=self.index)
+
+    def mismatch(self, model: Model, phi: FloatArray) -> tuple[float, int] | None:
+        """The largest ``|model slack − true slack|`` (mm) over the rows whose node touches, and its node."""
+        points = model.chain.nodes(phi)
+        gap = self._touching_gap(model, points, self.slack(model, points))
+        if not gap.size or not np.any(gap > 0.0):
+            return None
+        k = int(np.argmax(gap))
+        return float(gap[k]), int(self.nodes[k])
+
+    def _touching_gap(self, model: Model, points: FloatArray, slack: FloatArray) -> FloatArray:
+        """Per row, ``|model slack − true slack|`` (mm) where the row's node touches (model slack within
+        :data:`TOUCHING_BARS` bar lengths), 0 elsewhere; ``slack`` is :meth:`slack` at ``points``."""
         rows = self.rows(model)
         model_slack = rows.values(points) - rows.lb
         true_slack = slack[self.nodes - 1]
@@ -249,11 +267,7 @@ class Lumen(Block):
             c = model.scene.vessel.corners[self.sides[corner] - 2]
             true_slack[corner] = np.hypot(*(points[self.nodes[corner]] - c).T) - self.needed[corner]
         touching = model_slack <= TOUCHING_BARS * float(np.max(model.chain.lengths))
-        stale = touching & (np.abs(true_slack - model_slack) > PLANE_TOLERANCE * tolerance)
-        if not violated.size and not np.any(stale):
-            return None
-        nodes = grown_by_neighbours(np.unique(self.nodes), violated, model.n)
-        return replace(self._modelled(model, nodes, points), index=self.index)
+        return np.where(touching, np.abs(true_slack - model_slack), 0.0)
 
     def contact_normals(self, scene: Any) -> FloatArray:
         return self.normals

@@ -338,8 +338,15 @@ def _wall_gaps(scene: Scene, start: FloatArray, angle: float, kappa: FloatArray,
 def _lumen_angles(vessel: Any, chain: BarChain, base_angle: float | None) -> FloatArray:
     """Step 0 for a wire in a vessel (no contacts): follow the centreline from the entrance — each bar takes the
     centreline's tangent at its midpoint's arc length — unwrapped to within π of the base angle."""
+    return route_angles(vessel, chain, base_angle)
+
+
+def route_angles(vessel: Any, chain: BarChain, base_angle: float | None, branch: int | None = None) -> FloatArray:
+    """Bar angles (rad) of a start that follows a vessel's centreline from the entrance: the main centreline, or
+    with ``branch`` the way through that branch (:meth:`guidewire.Vessel.route`). Each bar takes the centreline's
+    tangent at its midpoint's arc length, unwrapped to within π of the base angle (or of the first bar's)."""
     s_mid = chain.arc_lengths[:-1] + 0.5 * chain.lengths
-    _, angles = vessel.path(s_mid)
+    _, angles = vessel.path(s_mid) if branch is None else vessel.route(s_mid, branch)
     angles = np.unwrap(np.asarray(angles, dtype=float))
     reference = angles[0] if base_angle is None else base_angle
     return angles + 2.0 * math.pi * round((reference - angles[0]) / (2.0 * math.pi))

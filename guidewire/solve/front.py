@@ -79,9 +79,10 @@ def solve(
     branches : {"lowest", "first"}
         ``"lowest"`` (default): when the answer from the default start has a pose (the base or a contact with a
         point) whose tangent is free, also solve from the mirror starts of :mod:`guidewire.solve.branches` (that bow
-        reflected about the chord between poses) and keep the lowest energy; ``Solution.starts`` counts the starts.
-        Not with ``initial_angles``/``initial_nodes`` (a given start chooses its branch). ``"first"``: the default
-        start's answer only.
+        reflected about the chord between poses) and keep the lowest energy; in a vessel with branches, also from a
+        start along the way through each branch the wire reaches. ``Solution.starts`` counts the starts. Not with
+        ``initial_angles``/``initial_nodes`` (a given start chooses its branch). ``"first"``: the default start's
+        answer only.
 
     Returns
     -------

@@ -48,6 +48,9 @@ class SolveOptions:
     verbose: bool = False
     reuse: Any = None
     branches: str = "lowest"
+    round_iterations: int | None = None
+    """Iterations the working-set rounds of one start may take together (None: ``max_iter`` each round); a
+    candidate start of ``branches="lowest"`` gets its whole limit this way, so one that never settles is cut short."""
 
     def minimize_options(self) -> dict[str, Any]:
         """The keyword arguments of :func:`sqp.minimize` these options set (no ``qp_solver`` for sqp's choice)."""

@@ -63,8 +63,9 @@ def run(scene: Scene, options: SolveOptions) -> Solution:
         first = solve_once(scene, options, start)
         if options.branches == "first" or options.given_start:
             return first
-        candidate = replace(options, initial_nodes=None, multipliers0=None, reuse=None,
-                            max_iter=candidate_iterations(first, options.max_iter))
+        limit = candidate_iterations(first, options.max_iter)
+        candidate = replace(options, initial_nodes=None, multipliers0=None, reuse=None, max_iter=limit,
+                            round_iterations=limit)
 
         def solve_from(x0: Any) -> Solution:
             return solve_once(scene, replace(candidate, initial_angles=x0), time.perf_counter())
@@ -73,12 +74,13 @@ def run(scene: Scene, options: SolveOptions) -> Solution:
 
 
 def _solve_in(scene: Scene, options: SolveOptions, layout: str, minimize_options: dict[str, Any],
-              runs: list[Any]) -> tuple[Formulation, Any]:
-    """Formulate ``scene`` in ``layout`` and solve it through the working-set rounds."""
+              runs: list[Any], budget: int | None = None) -> tuple[Formulation, Any, bool]:
+    """Formulate ``scene`` in ``layout`` and solve it through the working-set rounds (:func:`rounds`)."""
     form = formulate(scene, layout=layout, scheme=options.scheme, bars=options.bars,
                      initial_angles=options.initial_angles, initial_nodes=options.initial_nodes,
                      wall_nodes="near" if layout == "reduced" else None, reuse=options.reuse)
-    return rounds(form, options.hessian, start_multipliers(form, options.multipliers0), minimize_options, runs)
+    return rounds(form, options.hessian, start_multipliers(form, options.multipliers0), minimize_options, runs,
+                  options.round_iterations)
 
 
 def solve_once(scene: Scene, options: SolveOptions, start: float) -> Solution:
@@ -95,12 +97,12 @@ def solve_once(scene: Scene, options: SolveOptions, start: float) -> Solution:
     minimize_options = options.minimize_options()
     runs: list[Any] = []
     tried = options.layout == "auto" and layout == "full" and scene.vessel is not None
-    form, res = _solve_in(scene, options, layout, {**minimize_options, "max_iter": min(
+    form, res, settled = _solve_in(scene, options, layout, {**minimize_options, "max_iter": min(
         options.max_iter, FULL_VESSEL_ITER)} if tried else minimize_options, runs)
     failed = not res.success
     dense = not failed or scene.vessel is None or fits_memory(form.model.n, "reduced")
     if tried and failed and dense:
-        form, res = _solve_in(scene, options, "reduced", minimize_options, runs)
+        form, res, settled = _solve_in(scene, options, "reduced", minimize_options, runs)
     answer, fallback, message = form, None, None
     if options.hessian == "exact" and res.status in FALLBACK_STATUSES and not dense:
         message = (f"{res.message} (no {FALLBACK} retry: the dense program of bar angles needs about "
@@ -113,15 +115,16 @@ def solve_once(scene: Scene, options: SolveOptions, start: float) -> Solution:
         max_iter = options.max_iter
         budget = {**minimize_options, "max_iter": min(max_iter, max(FALLBACK_MIN_ITER, max_iter // 5))}
         retry = formulate(form.scene, layout="reduced", initial_angles=form.model.x0, wall_nodes="near", check=False)
-        form_q, res_q = rounds(retry, "bfgs", None, budget, runs)
+        form_q, res_q, settled_q = rounds(retry, "bfgs", None, budget, runs)
         if res_q.success:
-            answer, res, fallback = form_q, res_q, FALLBACK
+            answer, res, fallback, settled = form_q, res_q, FALLBACK, settled_q
             message = f"{res_q.message} ({FALLBACK}; the exact-Hessian run ended {stalled})"
         else:
             message = (f"{res.message} (a {FALLBACK} retry failed too: "
                        f"{sqp.Status.from_code(res_q.status).name} after {res_q.nit} iterations)")
     return build_solution(answer, res, time.perf_counter() - start, iterations=sum(int(r.nit) for r in runs),
-                          rounds=len(runs), fallback=fallback, message=message, tol=options.tol)
+                          rounds=len(runs), fallback=fallback, message=message, tol=options.tol,
+                          settled=settled)
 
 
 def start_multipliers(form: Formulation, multipliers0: Any) -> list[Any] | None:
@@ -137,30 +140,39 @@ def start_multipliers(form: Formulation, multipliers0: Any) -> list[Any] | None:
 
 
 def rounds(form: Formulation, hessian: str, multipliers0: Any, options: dict[str, Any],
-           runs: list[Any]) -> tuple[Formulation, Any]:
+           runs: list[Any], budget: int | None = None) -> tuple[Formulation, Any, bool]:
     """Solve ``form``; while a block's rows do not fit the answer (:meth:`Block.refine`: a wall's working set misses a
     violated node, a lumen's tangent planes moved), refine them and solve again from the answer and its multipliers
-    (matched by row), up to :data:`MAX_ROUNDS` times. ``options`` are :func:`sqp.minimize`'s; every ``sqp`` result
-    is appended to ``runs``."""
-    for _ in range(MAX_ROUNDS):
+    (matched by row), up to :data:`MAX_ROUNDS` solves. ``options`` are :func:`sqp.minimize`'s; every ``sqp`` result
+    is appended to ``runs``; with ``budget`` the rounds stop once their iterations reach it together. Returns the
+    formulation solved last, its result, and whether its rows fit that result (False when the rounds ran out
+    first: :func:`~guidewire.solve.result.build_solution` then rejects a converged answer, naming the row that
+    stands farthest from the constraint it models)."""
+    settled = False
+    for round_ in range(MAX_ROUNDS):
         args = form.arguments()
         if hessian == "exact":
             args["hess"] = form.hess
             args.update(form.layout.newton_options(form.blocks))
         if multipliers0 is not None:
             args["multipliers0"] = multipliers0
+        if budget is not None:
+            options = {**options, "max_iter": max(1, min(int(options["max_iter"]), budget))}
         res = sqp.minimize(**args, **options)
         runs.append(res)
         phi = form.angles(res.x)
         tolerance = options["tol"] * max(1.0, form.scene.wire.length)
         refined = [block.refine(form.model, phi, tolerance) for block in form.blocks]
-        if all(r is None for r in refined):
+        settled = all(r is None for r in refined)
+        if budget is not None:
+            budget -= int(res.nit)
+        if settled or round_ == MAX_ROUNDS - 1 or (budget is not None and budget <= 0):
             break
         blocks = [b if r is None else r for b, r in zip(form.blocks, refined, strict=True)]
         previous = form
         form = assemble(replace(form.model, x0=phi), form.layout.name, blocks)
         multipliers0 = form.multipliers0(previous.blocks, previous.multipliers(res))
-    return form, res
+    return form, res, settled
 
 
 @functools.cache

@@ -357,13 +357,30 @@ def shape_defect(form: Formulation, phi: FloatArray, nodes: FloatArray, max_viol
     return None
 
 
+def unsettled_defect(form: Formulation, phi: FloatArray) -> str:
+    """Why an answer whose working-set rounds ran out is rejected: the row standing farthest from the constraint it
+    models (:meth:`Block.mismatch`), by block, node, arc length and distance."""
+    worst = max(((m, block) for block in form.blocks if (m := block.mismatch(form.model, phi)) is not None),
+                key=lambda item: item[0][0], default=None)
+    where = ""
+    if worst is not None:
+        (amount, node), block = worst
+        s = float(form.chain.arc_lengths[node])
+        where = (f": the {block.describe(form.model)} row at node {node} (s = {s:.4g} mm) stands {amount:.3g} "
+                 f"{block.unit} from the constraint it models")
+    return (f"its working set of rows still moved when the rounds ran out{where}, so its contact forces are not "
+            "the vessel's")
+
+
 def build_solution(form: Formulation, res: Any, solve_time_s: float, *, iterations: int | None = None,
                    rounds: int = 1, fallback: str | None = None, message: str | None = None,
-                   tol: float = TOL) -> Solution:
+                   tol: float = TOL, settled: bool = True) -> Solution:
     """Assemble a :class:`Solution` from the formulation and the ``sqp`` result ``res`` of its program.
 
-    The bar angles are :meth:`Formulation.answer`. A converged run whose shape fails :func:`shape_defect` is
-    reported as a failure (:data:`SHAPE_REJECTED`); forces and moments only for a success.
+    The bar angles are :meth:`Formulation.answer`. A converged run whose shape fails :func:`shape_defect`, or whose
+    working-set rounds ran out before its rows fit it (``settled`` False: a row may hold the wire where the wall it
+    models is not, so the forces are not the vessel's), is reported as a failure (:data:`SHAPE_REJECTED`); forces
+    and moments only for a success.
     """
     multipliers = form.multipliers(res)
     phi = form.answer(np.asarray(res.x, dtype=float), multipliers)
@@ -372,6 +389,8 @@ def build_solution(form: Formulation, res: Any, solve_time_s: float, *, iteratio
     success, status = bool(res.success), Status(int(res.status))
     message = str(res.message) if message is None else message
     defect = shape_defect(form, phi, nodes, max_violation, tol) if success else None
+    if success and defect is None and not settled:
+        defect = unsettled_defect(form, phi)
     vessel = form.scene.vessel
     if vessel is not None and bool(vessel.past_end(nodes[-1:])[0]):
         message = f"{message} The tip has left the vessel past its far end."

@@ -80,8 +80,9 @@ def test_cold_and_insertion_agree_or_the_cold_solve_is_lower(sweep):
     assert np.all(_scene("s_bend").vessel.clearance(tips).distance < 0.0)  # outside the plain S: in the branch
 
 
-@pytest.mark.xfail(strict=True, reason="branches='lowest' tries no start through a vessel's branch: from 62 mm the "
-                   "insertion in the side branch (4.67-4.80 N·mm) is up to 20 % below the main centreline's answer")
+@pytest.mark.xfail(strict=True, reason="branches='lowest' tries a start along the side branch, but from 64 mm it "
+                   "ends at 5.03 N·mm (its first bend on the outer wall), above the insertion's 4.72 in the same "
+                   "branch; at 62-63 mm the insertion's 4.72 is below both cold starts (4.76, 4.95)")
 def test_lowest_finds_the_side_branch_where_it_is_lower():
     scene = _scene("s_bend_branch")
     lengths = np.arange(30.0, 70.01, 0.5)

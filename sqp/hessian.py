@@ -203,6 +203,12 @@ def _augmented_ladder(W: Any, CtC: Any, rho: float, rungs: int, scale: float,
     return None
 
 
+#: A shifted ``W + delta I`` is accepted only with every Cholesky pivot ``L_ii^2`` above this many roundings of its
+#: entries, ``eps (max|W_ii| + delta)`` (a singular ``B`` would pass the bare test on a rounding-sized pivot and give
+#: a step of 1e12 along its null vector).
+SHIFT_PIVOT_ROUNDINGS = 100.0
+
+
 def _shift_ladder(W: Any, shift: float, scale: float, is_sparse: bool) -> tuple[Any, float, float]:
     """Path 3 of :func:`convexify`: ``W + delta I`` for the first ``delta`` (from the last one, ``shift``, or
     :data:`SHIFT_START`) that passes the Cholesky test (the last one tried when none does)."""
@@ -210,7 +216,9 @@ def _shift_ladder(W: Any, shift: float, scale: float, is_sparse: bool) -> tuple[
     delta = max(shift / WEIGHT_DECAY, SHIFT_START * scale)
     for _ in range(SHIFT_RUNGS):
         B = _sorted(W + delta * eye, is_sparse)
-        accepted = _accepted(B, is_sparse)
+        # (W_ii + delta is exact to eps (|W_ii| + delta): a smaller pivot may be a zero eigenvalue, which a delta
+        # of a power of ten times max|W_ii| meets exactly where W's most negative eigenvalue is -max|W_ii|)
+        accepted = _accepted(B, is_sparse, SHIFT_PIVOT_ROUNDINGS * np.finfo(float).eps * (scale + delta))
         if accepted is not None:
             return accepted, delta, 0.0
         delta *= LADDER_GROWTH
@@ -326,16 +334,17 @@ def _sorted(B: Any, is_sparse: bool) -> Any:
     return B
 
 
-def _accepted(B: Any, is_sparse: bool) -> Any | None:
-    """``B`` when it is positive definite, else None: a dense ``B`` as a :class:`CholeskyHessian` carrying the factor
-    its Cholesky test computed (the equality-only QP reuses it), a sparse one as it is (tested by
-    :func:`_positive_definite`)."""
+def _accepted(B: Any, is_sparse: bool, floor: float = 0.0) -> Any | None:
+    """``B`` when it is positive definite with every pivot of its factorisation above ``floor`` (``L_ii^2``, or
+    ``U_ii``), else None: a dense ``B`` as a :class:`CholeskyHessian` carrying the factor its Cholesky test computed
+    (the equality-only QP reuses it), a sparse one as it is (tested by :func:`_positive_definite`)."""
     if is_sparse:
-        return B if _positive_definite(B) else None
+        return B if _positive_definite(B, floor) else None
     # (LAPACK's dpotrf through scipy: 1.4-2.6x faster than np.linalg.cholesky at n = 25-300, the same factor to
     # rounding; OpenBLAS's potrf lets a NaN pivot through, and any non-finite entry of L reaches its diagonal)
     L, info = lapack.dpotrf(B, lower=1, clean=1)
-    if info != 0 or not np.isfinite(L.diagonal()).all():
+    pivots = L.diagonal()
+    if info != 0 or not np.isfinite(pivots).all() or not np.all(pivots * pivots > floor):
         return None
     return CholeskyHessian.wrap(B, L)
 
@@ -346,10 +355,10 @@ def _accepted(B: Any, is_sparse: bool) -> Any | None:
 BANDED_CHOLESKY_MAX = 32
 
 
-def _positive_definite(B: Any) -> bool:
+def _positive_definite(B: Any, floor: float = 0.0) -> bool:
     """Whether the sparse symmetric ``B`` is positive definite: its banded Cholesky factorisation succeeds (a band
     up to :data:`BANDED_CHOLESKY_MAX`), else the pivots of its LU factorisation without pivoting are all positive
-    (Sylvester's law of inertia)."""
+    (Sylvester's law of inertia); every pivot (``L_ii^2`` or ``U_ii``) above ``floor`` too."""
     B = sp.csc_matrix(B)
     if not B.has_canonical_format:  # (every entry once: the band below is filled by assignment)
         B = B.copy()
@@ -362,14 +371,15 @@ def _positive_definite(B: Any) -> bool:
         ab = np.zeros((int(np.max(offset, initial=0)) + 1, n))
         ab.reshape(-1)[offset[lower] * n + col[lower]] = B.data[lower]
         factor, info = lapack.dpbtrf(ab, lower=1, overwrite_ab=1)
-        return bool(info == 0 and np.all(np.isfinite(factor[0])) and np.all(factor[0] > 0.0))
+        return bool(info == 0 and np.all(np.isfinite(factor[0])) and np.all(factor[0] > 0.0)
+                    and np.all(factor[0] * factor[0] > floor))
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             lu = spla.splu(B, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
     except RuntimeError:  # exactly singular
         return False
-    return bool(np.all(lu.perm_r == np.arange(B.shape[0])) and np.all(lu.U.diagonal() > 0))
+    return bool(np.all(lu.perm_r == np.arange(B.shape[0])) and np.all(lu.U.diagonal() > max(floor, 0.0)))
 
 
 class CholeskyHessian(np.ndarray):

@@ -168,16 +168,60 @@ def _backtrack(problem: Problem, options: Options, ev: Evaluator, st: State, d: 
 
 
 def merit_search(problem: Problem, options: Options, ev: Evaluator, st: State, qp: QPStep, mu: Array,
-                 noise: float = 0.0) -> Search:
+                 noise: float = 0.0, shifted: bool = False) -> Search:
     """:func:`line_search` along ``qp.d`` with the penalties ``mu``; when it fails with penalties above
     :data:`PENALTY_RESET_FACTOR` times the QP's largest multiplier, once more with the penalties restarted from the
-    QP's multipliers (Eq. 13 from scratch)."""
+    QP's multipliers (Eq. 13 from scratch). With ``shifted`` (the model Hessian was the exact one plus an identity
+    shift: indefinite on the null space of the rows the QP holds) an accepted full step is then extended
+    (:func:`expanded`)."""
     search = line_search(problem, options, ev, st, qp.d, mu, qp.v_lin, noise)
     assert search.mu is not None
     if search.pt is None and np.max(search.mu, initial=0.0) > PENALTY_RESET_FACTOR * max(
             float(np.max(np.abs(qp.lam_nl), initial=0.0)), 1e-12):
         search = line_search(problem, options, ev, st, qp.d, np.abs(qp.lam_nl), qp.v_lin, noise)
+    if shifted and search.pt is not None and search.alpha == 1.0 and not search.soc:
+        search = expanded(problem, ev, st, qp.d, search, options.step_bound)
     return search
+
+
+#: Longest step, in units of the QP's step, that :func:`expanded` tries.
+MAX_EXPANSION = 2.0**10
+
+
+def expanded(problem: Problem, ev: Evaluator, st: State, d: Array, search: Search,
+             step_bound: float = np.inf) -> Search:
+    """The accepted full step ``d`` doubled while the merit function keeps falling, by at least the Armijo fraction
+    of its slope at the last length, and the linear rows stay as met as at ``d`` (up to :data:`MAX_EXPANSION`, and
+    never past the QP's ``step_bound`` in the infinity norm: a bounded start keeps its steps short).
+
+    A shifted model makes the step short where the Hessian is indefinite: along a direction of negative curvature
+    ``d = -(W + delta I)^-1 g`` has length ``|g| / (delta - |lambda|)``, so near a saddle of the Lagrangian on the
+    held rows (a compressed wire about to buckle sideways) the iterates creep at ``|g| / delta`` a step while the
+    merit function falls ever faster along ``d``. The doubling is the extrapolation phase of a line search
+    (Nocedal & Wright, Algorithm 3.5): it stops at the first length that does not improve on the last, so it costs
+    one evaluation where the full step was already right."""
+    assert search.pt is not None and search.mu is not None
+    mu = search.mu
+    best, phi_best, alpha_best = search.pt, merit_at(search.pt, mu), 1.0
+    linear_cv = float(np.max(problem.linear.violation(best.r), initial=0.0)) if problem.linear.lb.size else 0.0
+    slope = float(st.der.g @ d)  # (the merit's slope along d at alpha = 1 is not known: the objective's at 0)
+    longest = min(MAX_EXPANSION, step_bound / max(float(np.max(np.abs(d), initial=0.0)), np.finfo(float).tiny))
+    alpha = 1.0
+    while 2.0 * alpha <= longest:
+        alpha *= 2.0
+        trial = trial_point(problem, ev, st.pt.x, alpha * d)
+        phi = merit_at(trial, mu)
+        if not phi < phi_best + ARMIJO * (alpha - alpha_best) * min(slope, 0.0):
+            break
+        if problem.linear.lb.size and float(np.max(problem.linear.violation(trial.r), initial=0.0)) > linear_cv:
+            break
+        best, phi_best, alpha_best = trial, phi, alpha
+    if alpha_best == 1.0:
+        return search
+    der = ev.derivatives(best)
+    if not der.finite:
+        return search
+    return Search(best, der, alpha_best, False, mu=mu, noise=search.noise)
 
 
 def _curvature_rejected(trial: Point, v_lin: Array, mu: Array, accept: float) -> bool:

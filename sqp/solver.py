@@ -305,7 +305,8 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
         if (stop := monitor.after_qp(options, st, qp, nit)) is not None:  # KKT test
             break
         mu = penalties(problem, st, qp)  # penalty update (Eq. 13)
-        search = merit_search(problem, options, ev, st, qp, mu, noise)  # line search on the L1 merit (Eq. 12)
+        shifted = getattr(hessian, "shift", 0.0) > 0.0  # (the exact Hessian needed an identity shift)
+        search = merit_search(problem, options, ev, st, qp, mu, noise, shifted)  # line search on the merit (Eq. 12)
         noise = max(noise, search.noise)
         st = State(st.pt, st.der, st.B, search.mu, qp)
         if (stop := monitor.after_search(st, search.pt, search.nonfinite, search.alpha, nit)) is not None:

@@ -44,7 +44,7 @@ def test_the_qp_handed_to_piqp_has_sorted_indices_even_without_the_positive_defi
     assert not (W + sp.csc_matrix(C.T @ C)).has_sorted_indices  # the hazard is real
     calls = []  # W alone "fails" the test, W + rho C^T C "passes" it without the factorisation that used to sort
 
-    def skipped_test(B):
+    def skipped_test(B, floor=0.0):
         calls.append(B)
         return len(calls) > 1
 

@@ -14,7 +14,7 @@ from sqp.hessian import DENSE_LIMIT
 DEFAULT_QP_FALLBACKS = ("quadprog", "clarabel")
 
 #: Backends that work on dense matrices (their cost O(n^3)), left out of the default fallbacks of a program that
-#: ``qp_solver="auto"`` solves with a sparse backend.
+#: ``qp_solver="auto"`` solves with a sparse backend (above ``DENSE_LIMIT`` variables, every Jacobian sparse).
 DENSE_BACKENDS = frozenset({"quadprog", "daqp"})
 
 if TYPE_CHECKING:
@@ -55,8 +55,8 @@ class Options:
           ``LinearConstraint.A`` a scipy.sparse matrix): ``"piqp"`` (sparse interior point), 10-20 ms per
           subproblem on a sparse full-space program with 1600 bars (4800 variables), where Clarabel took 50 ms and
           OSQP did not converge.
-        - larger, with some dense Jacobian rows: ``"clarabel"`` (sparse interior point), the backend measured best
-          for large problems with dense rows.
+        - larger, with some dense Jacobian rows: ``"daqp"`` again (such a program is dense anyway; Clarabel, a
+          sparse interior point, took 30-80x longer on the guidewire's reduced wall programs at 400-800 bars).
 
         A backend the rule picks but that is not installed is replaced by the first installed one of
         ``daqp, piqp, clarabel, osqp, quadprog, proxqp`` (:data:`sqp.backends.PREFERENCE`).
@@ -77,11 +77,12 @@ class Options:
     qp_fallbacks : tuple of str
         Backends asked, in order, when ``qp_solver`` fails a subproblem even after its retries (skipped when not
         installed). The iteration table marks such a step ``opt[name]``. ``()`` disables the fallback. With
-        ``qp_solver="auto"`` above :data:`sqp.DENSE_LIMIT` variables the default list drops the dense backends
-        (:data:`DENSE_BACKENDS`): an O(n^3) fallback of a large sparse program is no rescue. OSQP is
-        not among the defaults: on the guidewire's aortic arch at 250 bars 52 subproblems failed DAQP, quadprog and
-        Clarabel (degenerate elastic QPs the iteration recovers from), where OSQP spent 0.9 s each for a 49 s solve;
-        without it 5.8 s and the same answer; Hock–Schittkowski unchanged (115 solved, 0 false successes).
+        ``qp_solver="auto"`` above :data:`sqp.DENSE_LIMIT` variables, every Jacobian sparse, the default list
+        drops the dense backends (:data:`DENSE_BACKENDS`): an O(n^3) fallback of a large sparse program is no
+        rescue. OSQP is not among the defaults: on the guidewire's aortic arch at 250 bars 52 subproblems failed
+        DAQP, quadprog and Clarabel (degenerate elastic QPs the iteration recovers from), where OSQP spent 0.9 s each
+        for a 49 s solve; without it 5.8 s and the same answer; Hock–Schittkowski unchanged (115 solved, 0 false
+        successes).
     step_bound : float
         Largest change of any variable in one step of the first :data:`sqp.termination.RESTART_BOUNDED_ITERATIONS` (10)
         iterations (a box trust region on the QP); ``inf`` (the default): none. A QP whose step reaches it gives no
@@ -166,7 +167,7 @@ class Options:
         if self.qp_solver != AUTO:
             return out
         out = replace(out, qp_solver=auto_choice(problem.n, problem.sparse_jacobians)[0])
-        if problem.n > DENSE_LIMIT and self.qp_fallbacks == DEFAULT_QP_FALLBACKS:
+        if problem.n > DENSE_LIMIT and problem.sparse_jacobians and self.qp_fallbacks == DEFAULT_QP_FALLBACKS:
             # (a sparse program above the dense limit: a dense backend's O(n^3) fallback is no rescue — quadprog took
             # 55-111 s a subproblem of a 2 900-variable 3-D arch step where Clarabel took 0.7-1.1 s for the same
             # step, and 2.3 s each of 11 subproblems of a 960-variable 2-D S-bend)

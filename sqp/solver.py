@@ -135,7 +135,7 @@ def minimize(
     qp_solver : str
         qpsolvers backend for the subproblems, or "auto" (default): chosen once from the problem's structure —
         "daqp" (dense active set) up to :data:`~sqp.DENSE_LIMIT` (300) variables, above it "piqp" when every
-        constraint Jacobian is sparse and "clarabel" when some rows are dense (the rule, its measurements and why
+        constraint Jacobian is sparse and "daqp" again when some rows are dense (the rule, its measurements and why
         OSQP is not the default: :class:`sqp.Options`). Any installed backend by name (:func:`sqp.installed_solvers`)
         is used exactly as given. The backend used is ``res.qp_solver``.
     qp_options : dict, optional

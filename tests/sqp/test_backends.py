@@ -16,7 +16,7 @@ ALL = ["daqp", "piqp", "clarabel", "osqp", "quadprog", "proxqp"]
 @pytest.mark.parametrize(
     ("n", "sparse", "expected"),
     [(1, False, "daqp"), (sqp.DENSE_LIMIT, True, "daqp"), (sqp.DENSE_LIMIT + 1, True, "piqp"),
-     (sqp.DENSE_LIMIT + 1, False, "clarabel")],
+     (sqp.DENSE_LIMIT + 1, False, "daqp")],
 )
 def test_the_rule(n, sparse, expected):
     assert choose_qp_solver(n, sparse, ALL) == expected
@@ -48,7 +48,7 @@ def _quadratic(n: int, sparse: bool) -> dict:
 
 
 @pytest.mark.parametrize(("n", "sparse", "expected"), [(20, True, "daqp"), (sqp.DENSE_LIMIT + 10, True, "piqp"),
-                                                       (sqp.DENSE_LIMIT + 10, False, "clarabel")])
+                                                       (sqp.DENSE_LIMIT + 10, False, "daqp")])
 def test_auto_is_the_named_backend_and_says_which(n, sparse, expected, capsys):
     if expected not in sqp.installed_solvers():
         pytest.skip(f"{expected} not installed")
@@ -79,15 +79,16 @@ def test_options_resolve_per_problem():
 @pytest.mark.parametrize(("n", "sparse"), [(sqp.DENSE_LIMIT - 10, True), (sqp.DENSE_LIMIT + 10, True),
                                            (sqp.DENSE_LIMIT + 10, False), (4 * sqp.DENSE_LIMIT, True)])
 def test_a_large_program_falls_back_to_sparse_backends_only(n, sparse):
-    """``qp_solver="auto"`` above DENSE_LIMIT picks a sparse backend, and its default fallbacks leave out the dense
-    ones (an O(n^3) rescue of a large program took 55-111 s a subproblem where Clarabel took ~1 s); at or below the
-    limit, and whenever the caller names the fallbacks or the backend, they stay as given."""
+    """``qp_solver="auto"`` above DENSE_LIMIT with every Jacobian sparse picks a sparse backend, and its default
+    fallbacks leave out the dense ones (an O(n^3) rescue of a large sparse program took 55-111 s a subproblem where
+    Clarabel took ~1 s); a program with dense rows is dense anyway and keeps them, as do programs at or below the
+    limit, and whenever the caller names the fallbacks or the backend they stay as given."""
     from sqp.build import build_problem
     from sqp.options import DEFAULT_QP_FALLBACKS, DENSE_BACKENDS
 
     problem = build_problem(**_quadratic(n, sparse), bounds=None)
     auto = sqp.Options().for_problem(problem)
-    large = n > sqp.DENSE_LIMIT
+    large = n > sqp.DENSE_LIMIT and sparse
     expected = tuple(b for b in DEFAULT_QP_FALLBACKS if not (large and b in DENSE_BACKENDS))
     assert auto.qp_fallbacks == expected
     assert not large or all(name not in DENSE_BACKENDS for name, _ in auto.backends)

@@ -79,7 +79,8 @@ STRUCTURED_MIN = 150
 
 
 def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0,
-              alone_first: bool = True, equality_only: bool = False) -> tuple[Any, float, float]:
+              alone_first: bool = True, equality_only: bool = False,
+              rungs: int | None = None) -> tuple[Any, float, float]:
     """A positive-definite model Hessian from the exact Lagrangian Hessian ``W``, changing the QP step least.
 
     1. ``W`` itself when it is positive definite.
@@ -87,6 +88,7 @@ def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0,
        equality constraints and the inequalities active at the last step). On ``C d = const`` the added term is
        constant, so the QP step is the exact Newton–SQP step whenever ``W`` is positive definite on the null space
        of ``C`` (second-order sufficiency), while ``W`` alone may be indefinite — a wire under compression is.
+       At most ``rungs`` weights are tried (default :data:`AL_WEIGHT_RUNGS`).
        ``rho`` starts at a quarter of the last value that worked, or ``1e-3 max|W_ii| / max|C^T C_ii|``, and grows
        tenfold (when sparse, where every test is a sparse factorisation, the last weight is kept rather than
        quartered); ``W`` is not tested alone again once it needed the term. Used when
@@ -123,14 +125,15 @@ def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0,
         factor = structured.factor_symmetric(W)
         if factor is not None:
             def general() -> tuple[Any, float, float]:
-                return _convexify(W.toarray() if n <= DENSE_LIMIT else W, shift, C, rho, alone_first)
+                return _convexify(W.toarray() if n <= DENSE_LIMIT else W, shift, C, rho, alone_first, rungs)
             return structured.FactoredHessian.wrap(W, factor, general), 0.0, 0.0
     if sp.issparse(W) and n <= DENSE_LIMIT:
         W = W.toarray()
-    return _convexify(W, shift, C, rho, alone_first)
+    return _convexify(W, shift, C, rho, alone_first, rungs)
 
 
-def _convexify(W: Any, shift: float, C: Any, rho: float, alone_first: bool = True) -> tuple[Any, float, float]:
+def _convexify(W: Any, shift: float, C: Any, rho: float, alone_first: bool = True,
+               max_rungs: int | None = None) -> tuple[Any, float, float]:
     """:func:`convexify`'s general path, 1.-3."""
     is_sparse = sp.issparse(W)
     # (a W that needed the augmented-Lagrangian term last time goes straight to it: the term leaves the step
@@ -155,7 +158,8 @@ def _convexify(W: Any, shift: float, C: Any, rho: float, alone_first: bool = Tru
     # (method calls on the diagonal views: W is n x n, n >= 1)
     scale = max(1.0, float(np.abs(W.diagonal()).max()))
     if CtC is not None:
-        found = _augmented_ladder(W, CtC, rho, rungs, scale, is_sparse)
+        found = _augmented_ladder(W, CtC, rho, rungs, scale, is_sparse,
+                                  AL_WEIGHT_RUNGS if max_rungs is None else max_rungs)
         if found is not None:
             return found
     return _shift_ladder(W, shift, scale, is_sparse)
@@ -185,17 +189,17 @@ SHIFT_RUNGS = 40
 
 
 def _augmented_ladder(W: Any, CtC: Any, rho: float, rungs: int, scale: float,
-                      is_sparse: bool) -> tuple[Any, float, float] | None:
+                      is_sparse: bool, max_rungs: int = AL_WEIGHT_RUNGS) -> tuple[Any, float, float] | None:
     """Path 2 of :func:`convexify`: the first weight ``r`` (from the last one, ``rho``, or :data:`AL_WEIGHT_START`)
-    for which ``W + r C^T C`` passes the Cholesky test, ``rungs`` of the ladder being known to fail; None when
-    none does or ``C^T C`` is zero."""
+    for which ``W + r C^T C`` passes the Cholesky test, ``rungs`` of the ``max_rungs`` of the ladder being known to
+    fail; None when none does or ``C^T C`` is zero."""
     base = float(CtC.diagonal().max())  # (>= 0: a Gram matrix's diagonal)
     if base <= 0.0:
         return None
     r0 = AL_WEIGHT_START * scale / base
     r = r0 if rho <= 0.0 else max(rho, r0) if is_sparse else rho / WEIGHT_DECAY
     r *= LADDER_GROWTH**rungs  # (the same numbers as growing it tenfold: rungs is 0 or 1)
-    for _ in range(AL_WEIGHT_RUNGS - rungs):
+    for _ in range(max_rungs - rungs):
         B = _accepted(_sorted(_plus_scaled(W, r, CtC, is_sparse), is_sparse), is_sparse)
         if B is not None:
             return B, 0.0, r
@@ -239,8 +243,8 @@ def shifted_augmented(W: Any, C: Any, shift: float) -> tuple[Any, float, float]:
     is_sparse = sp.issparse(W)
     CtC = _gram(C, is_sparse)
     scale = max(1.0, float(np.abs(W.diagonal()).max()))
-    base = float(CtC.diagonal().max())
-    if base <= 0.0:
+    base = float(CtC.diagonal().max()) if CtC is not None else 0.0
+    if base <= 0.0:  # (or C^T C would not stay sparse: W alone is shifted)
         return _shift_ladder(W, shift, scale, is_sparse)
     r = SHIFTED_WEIGHT * AL_WEIGHT_START * scale / base
     B, delta, _ = _shift_ladder(_plus_scaled(W, r, CtC, is_sparse), shift, scale, is_sparse)

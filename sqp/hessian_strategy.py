@@ -105,9 +105,11 @@ class ConvexifiedExact:
     the rows that weight was applied on.
     """
 
-    def __init__(self, problem: Problem, lam0: Array | None, inequalities: bool = True) -> None:
+    def __init__(self, problem: Problem, lam0: Array | None, inequalities: bool = True,
+                 rungs: int | None = None) -> None:
         self.problem = problem
         self.inequalities = inequalities
+        self.rungs = rungs
         self.lam0 = np.zeros(problem.nonlinear.lb.size) if lam0 is None else lam0
         self.shift = 0.0
         self.weight = 0.0
@@ -136,11 +138,11 @@ class ConvexifiedExact:
             return None
         C = equality_rows(self.problem, st.der.J, self.rows)
         B, self.shift, self.weight = convexify(W, self.shift, C, self.weight, self.definite,
-                                               self.problem.equality_only)
-        if not self.inequalities and self.shift > 0.0 and C is not None:
-            # W is not positive definite on the equalities' null space: the shift goes on top of the
-            # augmented-Lagrangian term, so that it need only cover that null space (W alone can be far more
-            # indefinite across the rows: a compressed wire's closure forces)
+                                               self.problem.equality_only, self.rungs)
+        if (not self.inequalities or self.rungs is not None) and self.shift > 0.0 and C is not None:
+            # W is not positive definite on the held rows' null space (or only with a weight past the ladder's
+            # rungs): the shift goes on top of the augmented-Lagrangian term, so that it need only cover that null
+            # space (W alone can be far more indefinite across the rows: a compressed wire's closure forces)
             B, self.shift, self.weight = shifted_augmented(W, C, self.shift)
         return self._keep(B)
 
@@ -170,9 +172,10 @@ class ConvexifiedExact:
 
 
 def hessian_strategy(problem: Problem, B0: Array | None, lam0: Array | None,
-                     inequalities: bool = True) -> HessianStrategy:
+                     inequalities: bool = True, rungs: int | None = None) -> HessianStrategy:
     """:class:`ConvexifiedExact` when the problem carries exact Hessians (its augmented-Lagrangian term on the active
-    inequalities too when ``inequalities``), else :class:`DampedBFGS` from ``B0``."""
+    inequalities too when ``inequalities``, its weight's ladder ``rungs`` long), else :class:`DampedBFGS` from
+    ``B0``."""
     if problem.hess is not None:
-        return ConvexifiedExact(problem, lam0, inequalities)
+        return ConvexifiedExact(problem, lam0, inequalities, rungs)
     return DampedBFGS(problem, B0)

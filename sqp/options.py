@@ -103,6 +103,15 @@ class Options:
         that fails (False, the default: the backends always). The answer is the QP's exact solution where an
         interior-point backend gives it to its tolerance; on the guidewire's 3-D program (1200-1500 variables) one
         such solve takes about 1 ms against PIQP's 5-7 ms.
+    augmented_rungs : int or None
+        With exact Hessians, how many weights of the augmented-Lagrangian ladder (each tenfold the last, from
+        :data:`sqp.hessian.AL_WEIGHT_START`) are tried before an identity shift is added on top of the term
+        (:func:`sqp.hessian.shifted_augmented`); None (the default): :data:`sqp.hessian.AL_WEIGHT_RUNGS` (12), then
+        a shift of ``W`` alone on the inequality path. Large weights certify a Hessian whose curvature on the held
+        rows' null space is tiny, but leave the QP ill-conditioned: on the guidewire's compressed wires in the
+        full-space vessel program (S-bend and tortuous vessels, 320-800 bars) the full ladder reached model
+        diagonals of 1e15, the guessed active set failed its residual check and PIQP its iteration limit (a solve
+        took 2.8-20 s); with 5 rungs and the shift on top, 0.25-2.1 s and the same energies to 1e-9.
     restoration : bool
         After an INFEASIBLE end with nonlinear rows, minimise the violation from the last point
         (:mod:`sqp.restoration`) and report that point, or solve again from it when its violation is within
@@ -132,6 +141,7 @@ class Options:
     restoration: bool = True
     convexify_inequalities: bool = True
     active_set_guess: bool = False
+    augmented_rungs: int | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.tol, int | float) or not self.tol > 0:
@@ -142,6 +152,11 @@ class Options:
                              "or None for min(tol, 1e-10).")
         if isinstance(self.max_iter, bool) or not isinstance(self.max_iter, int) or self.max_iter < 0:
             raise ValueError(f"max_iter = {self.max_iter!r}; expected a nonnegative integer.")
+        if self.augmented_rungs is not None and (isinstance(self.augmented_rungs, bool)
+                                                 or not isinstance(self.augmented_rungs, int)
+                                                 or self.augmented_rungs < 0):
+            raise ValueError(f"augmented_rungs = {self.augmented_rungs!r}; expected a nonnegative integer (the "
+                             "weights tried, e.g. 5), or None for the engine's ladder.")
         if not isinstance(self.step_bound, int | float) or not self.step_bound > 0:
             raise ValueError(f"step_bound = {self.step_bound!r}; expected a positive number (inf: no bound).")
         if not isinstance(self.qp_solver, str):

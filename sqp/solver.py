@@ -75,6 +75,7 @@ def minimize(
     qp_fallbacks: tuple[str, ...] | None = None,
     active_set_guess: bool = False,
     step_bound: float = float("inf"),
+    augmented_rungs: int | None = None,
 ) -> Result:
     """Minimise ``fun(x, *args)`` subject to bounds and constraints by SQP; scipy's ``minimize(method="SLSQP")`` call.
 
@@ -164,6 +165,9 @@ def minimize(
         steps (a box trust region on those QPs, :attr:`sqp.Options.step_bound`); ``inf`` (the default): none. For a
         start whose linearisation misleads (a constraint gradient that vanishes there, so that the first QP does
         not see the row at all).
+    augmented_rungs : int or None
+        With ``hess``: the weights of the augmented-Lagrangian ladder tried before an identity shift goes on top of
+        the term (:attr:`sqp.Options.augmented_rungs`); None: the engine's ladder.
 
     Returns
     -------
@@ -203,7 +207,7 @@ def minimize(
                        qp_options=dict(qp_options or {}),
                        callback=adapt_callback(callback), verbose=call.table,
                        convexify_inequalities=bool(convexify_inequalities), active_set_guess=bool(active_set_guess),
-                       step_bound=float(step_bound),
+                       step_bound=float(step_bound), augmented_rungs=augmented_rungs,
                        **({} if qp_fallbacks is None else {"qp_fallbacks": tuple(qp_fallbacks)}))
     problem = build_problem(fun, x0, jac, bounds, constraints, args, hess, call.differences)
     if problem.hess is not None and hess0 is not None:  # exact Hessians replace it: check the shape only
@@ -284,7 +288,7 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
     if st is None:
         assert failed is not None
         return failed, False
-    hessian = hessian_strategy(problem, B0, lam0, options.convexify_inequalities)
+    hessian = hessian_strategy(problem, B0, lam0, options.convexify_inequalities, options.augmented_rungs)
     st = State(st.pt, st.der, hessian.initial(st), st.mu)
     monitor = Monitor(problem, options.tol, options.max_iter, st.pt, st.pt.maxcv, options.constraint_tol)
     history: list[IterationRecord] = []

@@ -57,6 +57,12 @@ projects a start that violates a linear row by more than 1e-12, by a QP with a d
 START_MARGIN = 1e-9
 """A start violating an inequality angle row (the b₂ bound) is projected onto the rows shrunk by this many radians."""
 
+AUGMENTED_RUNGS = 5
+"""Weights of the engine's augmented-Lagrangian ladder tried on a vessel's full-space program before an identity
+shift goes on top of the term (``sqp.minimize(augmented_rungs=...)``; weights up to 1e4 times the first): measured
+on the S-bend and tortuous vessels at 320-800 bars, 5 and 7 rungs gave the same energies in 18-74 iterations, 7 once
+took 10 s where 5 took 2.1 s (tortuous, 800 bars), the engine's 12 took 2.8-20 s (:meth:`FullLayout.newton_options`)."""
+
 POLISH_TOLERANCE = 1e-9
 """:meth:`FullLayout.answer` leaves ``φ`` alone when no row is violated by more than this times the length scale
 (1e-7 mm for a 100 mm wire; the answer is checked against ``tol · L`` = 1e-6 mm): the dense Gauss–Newton correction
@@ -212,7 +218,9 @@ class FullLayout:
 
     def newton_options(self, blocks: Sequence[Block]) -> dict[str, Any]:
         """Options of :func:`sqp.minimize` with exact Hessians for this layout: with curved (lumen) rows, each QP
-        first solved on the active set its last multipliers guess (``active_set_guess``: one banded KKT solve).
+        first solved on the active set its last multipliers guess (``active_set_guess``: one banded KKT solve), and
+        the augmented-Lagrangian weight's ladder cut to :data:`AUGMENTED_RUNGS` with an identity shift on top of the
+        term beyond (``augmented_rungs``).
 
         A wire compressed in a vessel has a Lagrangian Hessian that is positive definite only on the null space of
         the closure rows *and* the lumen rows it presses on (free, it would buckle): the augmented-Lagrangian term
@@ -220,9 +228,13 @@ class FullLayout:
         the reduced curvature is small, which an interior-point QP does not solve reliably — on the guessed active set
         the step is the KKT solve, where that term is constant. Measured (auto layout, ``branches="first"``): S-bend
         at 400 bars 130 s (30 iterations here, then the dense program) → 3.3 s; tortuous at 400 bars > 150 s →
-        2.8 s; the 250 mm arch at 400 bars 0.50 → 0.21 s; the bend at 800 bars 4 iterations either way."""
+        2.8 s; the 250 mm arch at 400 bars 0.50 → 0.21 s; the bend at 800 bars 4 iterations either way. The weights
+        that certify definiteness there (model diagonals up to 1e15) still failed the guessed active set's residual
+        check and PIQP's iteration limit: with the ladder cut, S-bend 400 / 800 bars 3.0 / 20 s → 0.25 / 0.47 s,
+        tortuous 400 / 640 / 800 bars 2.8 / 18 / 5.3 s → 0.72 / 1.1 / 2.1 s (a step extended along the shifted
+        direction while the merit keeps falling, :func:`sqp.linesearch.expanded`, recovers what the shift shortens)."""
         curved = any(isinstance(r, NodeRows) and not r.linear for r in (b.rows(self.model) for b in blocks))
-        return {"active_set_guess": True} if curved else {}
+        return {"active_set_guess": True, "augmented_rungs": AUGMENTED_RUNGS} if curved else {}
 
     def node_rows(self, rows: NodeRows) -> Any:
         """Linear rows as a ``LinearConstraint``; quadratic ones (a curved boundary) as a constraint with a sparse

@@ -119,15 +119,15 @@ def _solve_both(monkeypatch, run):
     guessed = []
     real = hessian.convexify
 
-    def spy(W, shift=0.0, C=None, rho=0.0, alone_first=True, equality_only=False):
+    def spy(W, shift=0.0, C=None, rho=0.0, alone_first=True, equality_only=False, rungs=None):
         guessed.append(not alone_first and rho == 0.0)
-        return real(W, shift, C, rho, alone_first, equality_only)
+        return real(W, shift, C, rho, alone_first, equality_only, rungs)
 
     monkeypatch.setattr(hessian_strategy, "convexify", spy)
     new = run()
     monkeypatch.setattr(hessian_strategy, "convexify",
-                        lambda W, shift=0.0, C=None, rho=0.0, alone_first=True, equality_only=False:
-                        real(W, shift, C, rho, True, equality_only))
+                        lambda W, shift=0.0, C=None, rho=0.0, alone_first=True, equality_only=False, rungs=None:
+                        real(W, shift, C, rho, True, equality_only, rungs))
     old = run()
     return new, old, guessed
 

@@ -12,6 +12,8 @@ O(n) for the whole chain.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -26,8 +28,9 @@ TANGENT_FORMS = np.array([[[0, 0, 1, 0], [0, 0, 0, 1], [1, 0, 0, 0], [0, 1, 0, 0
 """Symmetric ``A_i`` (3, 4, 4) with ``N_i(q) = qᵀ A_i q`` (:func:`guidewire.rod.quaternion.tangent_components`)."""
 
 
-def tangents(q0: FloatArray, basis: FloatArray, omega: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Unit tangents (n, 3), ``∂t/∂ω`` (n, 3, 3) and ``∂²t/∂ω²`` (n, 3, 3, 3) at ``q = q0 + basis ω``."""
+def tangents(q0: FloatArray, basis: FloatArray, omega: FloatArray, derivatives: bool = True) -> tuple[Any, Any, Any]:
+    """Unit tangents (n, 3), ``∂t/∂ω`` (n, 3, 3) and ``∂²t/∂ω²`` (n, 3, 3, 3) at ``q = q0 + basis ω``; with
+    ``derivatives`` False the tangents alone (the same numbers) and two None."""
     q = q0 + np.einsum("kij,kj->ki", basis, omega)
     # N_i = qᵀ A_i q and s = |q|²; t_i = N_i / s by the quotient rule in q, then through the chart (q affine in ω:
     # ∂t/∂ω = ∂t/∂q E, ∂²t/∂ω² = Eᵀ ∂²t/∂q² E)
@@ -35,6 +38,8 @@ def tangents(q0: FloatArray, basis: FloatArray, omega: FloatArray) -> tuple[Floa
     grad_n = 2.0 * np.einsum("iab,kb->kia", TANGENT_FORMS, q)  # ∂N_i/∂q (n, 3, 4)
     n_value = 0.5 * np.einsum("kia,ka->ki", grad_n, q)
     t = n_value / s[:, None]
+    if not derivatives:
+        return t, None, None
     e_grad_n = grad_n @ basis  # Eᵀ ∂N_i/∂q (n, 3, 3)
     e_q = np.einsum("kab,ka->kb", basis, q)  # Eᵀ q (n, 3)
     dt = (e_grad_n - 2.0 * t[:, :, None] * e_q[:, None, :]) / s[:, None, None]

@@ -198,8 +198,27 @@ class StrainEnergy:
 
     def value(self, q: FloatArray) -> tuple[float, float]:
         """``(bending, twist)`` in N·mm of frames ``q`` (n, 4), without derivatives."""
-        parts = self.evaluate(q, np.zeros((self.n, 4, 3)), np.zeros((self.n, 3)))
-        return parts.bending, parts.twist
+        return self.values(q, np.zeros((self.n, 4, 3)), np.zeros((self.n, 3)))
+
+    def values(self, q0: FloatArray, basis: FloatArray, omega: FloatArray) -> tuple[float, float]:
+        """``(bending, twist)`` of :meth:`evaluate` at the same point without its derivatives (a line search's trial
+        point): the same operations on the values, so the same numbers bit for bit, at a fraction of the cost."""
+        q = q0 + np.einsum("kij,kj->ki", basis, omega)
+        r = np.einsum("ijk,mj,mk->mi", quat.RELATIVE, np.vstack((self.base, q[:-1])), q)
+        k1, k2, tau = joint_strain([Jet.constant(r[:, i], 0) for i in range(4)], "mid")
+        bending = float(((k1.square() + (k2 - self.joint_rest).square()) * self.joint_bending).value.sum())
+        twisting = float((tau.square() * self.joint_twist).value.sum())
+        if self.half_bar.size:
+            qk = [Jet.constant(q[self.half_bar, c], 0) for c in range(4)]
+            star = [Jet.constant(self.half_frame[:, c], 0) for c in range(4)]
+            before = self.half_side > 0
+            for mask, pair, axes in ((before, (qk, star), "a"), (~before, (star, qk), "b")):
+                if np.any(mask):
+                    h1, h2, h3 = joint_strain([_take(j, mask) for j in quat.relative_affine(*pair)], axes)
+                    bending += float(((h1.square() + (h2 - self.half_rest[mask]).square())
+                                      * self.half_weight[mask]).value.sum())
+                    twisting += float((h3.square() * self.half_twist[mask]).value.sum())
+        return bending, twisting
 
 
 def _columns(terms) -> tuple[IntArray, IntArray]:  # noqa: ANN001  (guidewire.energy.EnergyTerms)

@@ -18,6 +18,7 @@ touches one element's variables) the matrix is then banded, and LAPACK's banded 
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -98,21 +99,13 @@ class _KKTParts:
             data.append(self.g_data[keep])
             last.append(self.g_last[g_rows])
         c_row, c_col, c_data = np.concatenate(rows), np.concatenate(cols), np.concatenate(data)
-        m = c.size
-        size = n + m
-        key = np.concatenate((2 * np.arange(n, dtype=np.int64), 2 * np.concatenate(last) + 1))
-        perm = np.argsort(key, kind="stable")
-        where = np.empty(size, dtype=np.intp)
-        where[perm] = np.arange(size)
-        r = where[np.concatenate((self.b_row, c_row + n, c_col))]
-        k = where[np.concatenate((self.b_col, c_col, c_row + n))]
-        if not r.size:
+        size = n + c.size
+        layout = _band_layout(size, self.b_row, self.b_col, c_row, c_col, np.concatenate(last))
+        if layout is None:
             return None
-        kl, ku = int(np.max(r - k)), int(np.max(k - r))
-        if max(kl, ku) > MAX_KKT_BANDWIDTH:
-            return None
+        perm, kl, ku, place = layout
         ab = np.zeros((2 * kl + ku + 1, size))
-        ab.reshape(-1)[(kl + ku + r - k) * size + k] = np.concatenate((self.b_data, c_data, c_data))
+        ab.reshape(-1)[place] = np.concatenate((self.b_data, c_data, c_data))
         lu, piv, info = lapack.dgbtrf(ab, kl, ku, overwrite_ab=True)
         if info != 0:
             return None
@@ -122,6 +115,56 @@ class _KKTParts:
         out = np.empty(size)
         out[perm] = x
         return out[:n], out[n:]
+
+
+@dataclass(frozen=True)
+class _Layout:
+    """Where the KKT matrix's entries go in band storage, for one pattern (see :func:`_band_layout`)."""
+
+    size: int
+    b_row: NDArray[np.intp]
+    b_col: NDArray[np.intp]
+    c_row: NDArray[np.intp]
+    c_col: NDArray[np.intp]
+    perm: NDArray[np.intp]
+    kl: int
+    ku: int
+    place: NDArray[np.intp]
+
+
+_LAST_LAYOUT: list[_Layout] = []
+"""The last pattern's layout: an SQP's QPs keep the Hessian's and the rows' patterns, and mostly the active set, from
+one iteration to the next, so the ordering and the band positions are found again only when the pattern changes."""
+
+
+def _band_layout(size: int, b_row: NDArray[np.intp], b_col: NDArray[np.intp], c_row: NDArray[np.intp],
+                 c_col: NDArray[np.intp], last: NDArray[np.int64]) -> tuple[NDArray[np.intp], int, int,
+                                                                            NDArray[np.intp]] | None:
+    """``(perm, kl, ku, place)`` of the KKT matrix of size ``size`` with ``B``'s entries at ``(b_row, b_col)`` and
+    the rows' at ``(c_row, c_col)`` (row ``i`` of ``C`` ending at column ``last[i]``): the order of
+    :func:`interleaved_order`, the band widths and each entry's flat position in LAPACK's band storage (``B``'s,
+    then ``C``'s, then ``C^T``'s); None when empty or wider than :data:`MAX_KKT_BANDWIDTH`. The patterns are compared
+    entry for entry with the last call's, whose layout is then reused."""
+    if _LAST_LAYOUT:
+        old = _LAST_LAYOUT[0]
+        if old.size == size and all(np.array_equal(x, y) for x, y in ((old.b_row, b_row), (old.b_col, b_col),
+                                                                      (old.c_row, c_row), (old.c_col, c_col))):
+            return old.perm, old.kl, old.ku, old.place
+    n = size - last.size
+    key = np.concatenate((2 * np.arange(n, dtype=np.int64), 2 * last + 1))
+    perm = np.argsort(key, kind="stable")
+    where = np.empty(size, dtype=np.intp)
+    where[perm] = np.arange(size)
+    r = where[np.concatenate((b_row, c_row + n, c_col))]
+    k = where[np.concatenate((b_col, c_col, c_row + n))]
+    if not r.size:
+        return None
+    kl, ku = int(np.max(r - k)), int(np.max(k - r))
+    if max(kl, ku) > MAX_KKT_BANDWIDTH:
+        return None
+    place = (kl + ku + r - k) * size + k
+    _LAST_LAYOUT[:] = [_Layout(size, b_row.copy(), b_col.copy(), c_row.copy(), c_col.copy(), perm, kl, ku, place)]
+    return perm, kl, ku, place
 
 
 def _row_entries(M: Any) -> tuple[NDArray[np.intp], NDArray[np.intp], Array, NDArray[np.int64]]:

@@ -18,6 +18,7 @@ touches one element's variables) the matrix is then banded, and LAPACK's banded 
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -62,35 +63,121 @@ def banded_kkt(B: Any, g: Array, C: Any, c: Array) -> tuple[Array, Array] | None
     """The KKT point ``(d, y)`` of ``min 1/2 d^T B d + g^T d  s.t.  C d = c`` (``B d + g + C^T y = 0``, qpsolvers'
     sign), by LAPACK's banded LU of the KKT matrix in :func:`interleaved_order`; None when the band is wider than
     :data:`MAX_KKT_BANDWIDTH`, the matrix is exactly singular or the answer is not finite."""
-    n, m = g.size, c.size
-    size = n + m
-    perm = interleaved_order(C, n)
+    return _KKTParts(B, C).solve(np.ones(sp.csr_matrix(C).shape[0], dtype=bool), np.empty(0), g, c)
+
+
+class _KKTParts:
+    """The entries of ``B`` and of the rows ``[E; G]`` in coordinates, found once for the several guesses of one QP:
+    the KKT matrix of ``E`` and any subset of ``G``'s rows is then placed in LAPACK's band storage without building
+    sparse matrices (the same band matrix, entry for entry, as from ``vstack((E, G[rows]))``)."""
+
+    def __init__(self, B: Any, E: Any, G: Any | None = None) -> None:
+        B = sp.csc_matrix(B)
+        B.sum_duplicates()  # (no-ops on canonical matrices: every entry below is then placed once)
+        self.n = B.shape[0]
+        self.b_row, self.b_col, self.b_data = B.indices, np.repeat(np.arange(self.n), np.diff(B.indptr)), B.data
+        self.e_row, self.e_col, self.e_data, self.e_last = _row_entries(E)
+        if G is not None:
+            self.g_row, self.g_col, self.g_data, self.g_last = _row_entries(G)
+
+    def solve(self, e_rows: NDArray[np.bool_], g_rows: NDArray[np.intp], g: Array,
+              c: Array) -> tuple[Array, Array] | None:
+        """:func:`banded_kkt` with ``C`` the rows ``e_rows`` (bool, of ``E``) then ``g_rows`` (indices into ``G``)."""
+        n = self.n
+        e_index = np.flatnonzero(e_rows)
+        e_place = np.full(e_rows.size, -1)
+        e_place[e_index] = np.arange(e_index.size)
+        keep = e_place[self.e_row] >= 0
+        rows, cols, data = [e_place[self.e_row[keep]]], [self.e_col[keep]], [self.e_data[keep]]
+        last = [self.e_last[e_index]]
+        if g_rows.size:
+            g_place = np.full(self.g_last.size, -1)
+            g_place[g_rows] = np.arange(g_rows.size) + e_index.size
+            keep = g_place[self.g_row] >= 0
+            rows.append(g_place[self.g_row[keep]])
+            cols.append(self.g_col[keep])
+            data.append(self.g_data[keep])
+            last.append(self.g_last[g_rows])
+        c_row, c_col, c_data = np.concatenate(rows), np.concatenate(cols), np.concatenate(data)
+        size = n + c.size
+        layout = _band_layout(size, self.b_row, self.b_col, c_row, c_col, np.concatenate(last))
+        if layout is None:
+            return None
+        perm, kl, ku, place = layout
+        ab = np.zeros((2 * kl + ku + 1, size))
+        ab.reshape(-1)[place] = np.concatenate((self.b_data, c_data, c_data))
+        lu, piv, info = lapack.dgbtrf(ab, kl, ku, overwrite_ab=True)
+        if info != 0:
+            return None
+        x, info = lapack.dgbtrs(lu, kl, ku, np.concatenate((-g, c))[perm], piv)
+        if info != 0 or not np.isfinite(x).all():
+            return None
+        out = np.empty(size)
+        out[perm] = x
+        return out[:n], out[n:]
+
+
+@dataclass(frozen=True)
+class _Layout:
+    """Where the KKT matrix's entries go in band storage, for one pattern (see :func:`_band_layout`)."""
+
+    size: int
+    b_row: NDArray[np.intp]
+    b_col: NDArray[np.intp]
+    c_row: NDArray[np.intp]
+    c_col: NDArray[np.intp]
+    perm: NDArray[np.intp]
+    kl: int
+    ku: int
+    place: NDArray[np.intp]
+
+
+_LAST_LAYOUT: list[_Layout] = []
+"""The last pattern's layout: an SQP's QPs keep the Hessian's and the rows' patterns, and mostly the active set, from
+one iteration to the next, so the ordering and the band positions are found again only when the pattern changes."""
+
+
+def _band_layout(size: int, b_row: NDArray[np.intp], b_col: NDArray[np.intp], c_row: NDArray[np.intp],
+                 c_col: NDArray[np.intp], last: NDArray[np.int64]) -> tuple[NDArray[np.intp], int, int,
+                                                                            NDArray[np.intp]] | None:
+    """``(perm, kl, ku, place)`` of the KKT matrix of size ``size`` with ``B``'s entries at ``(b_row, b_col)`` and
+    the rows' at ``(c_row, c_col)`` (row ``i`` of ``C`` ending at column ``last[i]``): the order of
+    :func:`interleaved_order`, the band widths and each entry's flat position in LAPACK's band storage (``B``'s,
+    then ``C``'s, then ``C^T``'s); None when empty or wider than :data:`MAX_KKT_BANDWIDTH`. The patterns are compared
+    entry for entry with the last call's, whose layout is then reused."""
+    if _LAST_LAYOUT:
+        old = _LAST_LAYOUT[0]
+        if old.size == size and all(np.array_equal(x, y) for x, y in ((old.b_row, b_row), (old.b_col, b_col),
+                                                                      (old.c_row, c_row), (old.c_col, c_col))):
+            return old.perm, old.kl, old.ku, old.place
+    n = size - last.size
+    key = np.concatenate((2 * np.arange(n, dtype=np.int64), 2 * last + 1))
+    perm = np.argsort(key, kind="stable")
     where = np.empty(size, dtype=np.intp)
     where[perm] = np.arange(size)
-    B, C = sp.csc_matrix(B), sp.csr_matrix(C)
-    B.sum_duplicates()  # (no-ops on canonical matrices: every entry below is then placed once)
-    C.sum_duplicates()
-    # (coordinates straight from the compressed arrays: B's column and C's row of an entry is its pointer segment)
-    b_col = np.repeat(np.arange(n), np.diff(B.indptr))
-    c_row = np.repeat(np.arange(m), np.diff(C.indptr)) + n
-    r = where[np.concatenate((B.indices, c_row, C.indices))]
-    k = where[np.concatenate((b_col, C.indices, c_row))]
+    r = where[np.concatenate((b_row, c_row + n, c_col))]
+    k = where[np.concatenate((b_col, c_col, c_row + n))]
     if not r.size:
         return None
     kl, ku = int(np.max(r - k)), int(np.max(k - r))
     if max(kl, ku) > MAX_KKT_BANDWIDTH:
         return None
-    ab = np.zeros((2 * kl + ku + 1, size))
-    ab.reshape(-1)[(kl + ku + r - k) * size + k] = np.concatenate((B.data, C.data, C.data))
-    lu, piv, info = lapack.dgbtrf(ab, kl, ku, overwrite_ab=True)
-    if info != 0:
-        return None
-    x, info = lapack.dgbtrs(lu, kl, ku, np.concatenate((-g, c))[perm], piv)
-    if info != 0 or not np.isfinite(x).all():
-        return None
-    out = np.empty(size)
-    out[perm] = x
-    return out[:n], out[n:]
+    place = (kl + ku + r - k) * size + k
+    _LAST_LAYOUT[:] = [_Layout(size, b_row.copy(), b_col.copy(), c_row.copy(), c_col.copy(), perm, kl, ku, place)]
+    return perm, kl, ku, place
+
+
+def _row_entries(M: Any) -> tuple[NDArray[np.intp], NDArray[np.intp], Array, NDArray[np.int64]]:
+    """Row, column and value of every entry of ``M`` (canonical CSR order), and each row's last column (0 for an
+    empty row: :func:`interleaved_order` puts it after the first variable)."""
+    M = sp.csr_matrix(M)
+    M.sum_duplicates()
+    counts = np.diff(M.indptr)
+    last = np.zeros(M.shape[0], dtype=np.int64)
+    full = counts > 0
+    if np.any(full):
+        last[full] = np.maximum.reduceat(M.indices, M.indptr[:-1][full])
+    return np.repeat(np.arange(M.shape[0]), counts), M.indices, M.data, last
 
 
 def guessed_qp(B: Any, g: Array, E: Any, e: Array, G: Any, h: Array, active: NDArray[np.bool_],
@@ -104,10 +191,11 @@ def guessed_qp(B: Any, g: Array, E: Any, e: Array, G: Any, h: Array, active: NDA
     m_eq = e.size
     tol = ACTIVE_SET_TOL * scale
     active = np.asarray(active, dtype=bool).copy()
+    parts = _KKTParts(B, E, G)
+    every_equality = np.ones(m_eq, dtype=bool)
     for _ in range(solves):
         rows = np.flatnonzero(active)
-        C = sp.vstack((E, G[rows]), format="csr") if rows.size else E
-        step = banded_kkt(B, g, C, np.concatenate((e, h[rows])))
+        step = parts.solve(every_equality, rows, g, np.concatenate((e, h[rows])))
         if step is None:
             return None
         d, w = step

@@ -6,28 +6,51 @@ Bar ``k`` runs from node ``k − 1`` to node ``k`` (node 0 the clamp) along its 
 
 (homogeneous of degree 0: the chart's unnormalised ``q = q⁰ + E ω`` needs no unit-norm row), and
 ``p_k = p_0 + Σ_{j ≤ k} l_j t_j``. The derivatives ``∂t/∂ω`` (3 × 3 per bar) and ``∂²t/∂ω²`` (3 × 3 × 3 per bar) are
-exact (:mod:`guidewire.rod.jet`), O(n) for the whole chain.
+exact (the quotient rule on the quadratic forms ``N_i = qᵀ A_i q`` and ``|q|²``, carried through the affine chart),
+O(n) for the whole chain.
 """
 
 from __future__ import annotations
+
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from . import quaternion as quat
-from .jet import Jet
 
 FloatArray = NDArray[np.float64]
 
 
-def tangents(q0: FloatArray, basis: FloatArray, omega: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Unit tangents (n, 3), ``∂t/∂ω`` (n, 3, 3) and ``∂²t/∂ω²`` (n, 3, 3, 3) at ``q = q0 + basis ω``."""
+TANGENT_FORMS = np.array([[[0, 0, 1, 0], [0, 0, 0, 1], [1, 0, 0, 0], [0, 1, 0, 0]],
+                          [[0, -1, 0, 0], [-1, 0, 0, 0], [0, 0, 0, 1], [0, 0, 1, 0]],
+                          [[1, 0, 0, 0], [0, -1, 0, 0], [0, 0, -1, 0], [0, 0, 0, 1]]], dtype=float)
+"""Symmetric ``A_i`` (3, 4, 4) with ``N_i(q) = qᵀ A_i q`` (:func:`guidewire.rod.quaternion.tangent_components`)."""
+
+
+def tangents(q0: FloatArray, basis: FloatArray, omega: FloatArray, derivatives: bool = True) -> tuple[Any, Any, Any]:
+    """Unit tangents (n, 3), ``∂t/∂ω`` (n, 3, 3) and ``∂²t/∂ω²`` (n, 3, 3, 3) at ``q = q0 + basis ω``; with
+    ``derivatives`` False the tangents alone (the same numbers) and two None."""
     q = q0 + np.einsum("kij,kj->ki", basis, omega)
-    jets = [Jet.affine(q[:, c], basis[:, c]) for c in range(4)]
-    inverse = quat.norm2(jets).reciprocal()
-    t = [component * inverse for component in quat.tangent_components(jets)]
-    return (np.stack([c.value for c in t], axis=1), np.stack([c.grad for c in t], axis=1),
-            np.stack([c.hess for c in t], axis=1))
+    # N_i = qᵀ A_i q and s = |q|²; t_i = N_i / s by the quotient rule in q, then through the chart (q affine in ω:
+    # ∂t/∂ω = ∂t/∂q E, ∂²t/∂ω² = Eᵀ ∂²t/∂q² E)
+    s = np.einsum("ki,ki->k", q, q)
+    grad_n = 2.0 * np.einsum("iab,kb->kia", TANGENT_FORMS, q)  # ∂N_i/∂q (n, 3, 4)
+    n_value = 0.5 * np.einsum("kia,ka->ki", grad_n, q)
+    t = n_value / s[:, None]
+    if not derivatives:
+        return t, None, None
+    e_grad_n = grad_n @ basis  # Eᵀ ∂N_i/∂q (n, 3, 3)
+    e_q = np.einsum("kab,ka->kb", basis, q)  # Eᵀ q (n, 3)
+    dt = (e_grad_n - 2.0 * t[:, :, None] * e_q[:, None, :]) / s[:, None, None]
+    ete = basis.transpose(0, 2, 1) @ basis
+    eae = basis.transpose(0, 2, 1)[:, None] @ (TANGENT_FORMS @ basis[:, None])  # Eᵀ A_i E (n, 3, 3, 3)
+    mixed = e_grad_n[:, :, :, None] * e_q[:, None, None, :]
+    ddt = (2.0 * eae - 2.0 * (mixed + mixed.transpose(0, 1, 3, 2)) / s[:, None, None, None]
+           - 2.0 * t[:, :, None, None] * ete[:, None] + 8.0 * t[:, :, None, None] * (e_q[:, None, :, None]
+                                                                                     * e_q[:, None, None, :])
+           / s[:, None, None, None]) / s[:, None, None, None]
+    return t, dt, ddt
 
 
 def unit_tangents(q: FloatArray) -> FloatArray:

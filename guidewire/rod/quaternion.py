@@ -76,6 +76,17 @@ def relative_affine(qa: list[Jet], qb: list[Jet]) -> list[Jet]:
     return [Jet(value[:, i], grad[:, i], hess[:, i]) for i in range(4)]
 
 
+def relative_jacobians(a: FloatArray, slope_a: FloatArray, b: FloatArray,
+                       slope_b: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """``r = q̄_a ⊗ q_b`` (m, 4) of frames ``a``, ``b`` (m, 4) affine in their own variables with slopes ``slope_a``,
+    ``slope_b`` (m, 4, k), and ``∂r/∂ω_a``, ``∂r/∂ω_b`` (m, 4, k each), from the bilinear form :data:`RELATIVE`;
+    the mixed second derivative is ``Σ_jk RELATIVE_ijk slope_a,j ⊗ slope_b,k`` (the other two vanish)."""
+    value = np.einsum("ijk,mj,mk->mi", RELATIVE, a, b)
+    d_a = np.einsum("ijk,mk->mij", RELATIVE, b) @ slope_a  # ∂r_i/∂a_j · ∂a_j/∂ω_a
+    d_b = np.einsum("ijk,mj->mik", RELATIVE, a) @ slope_b
+    return value, d_a, d_b
+
+
 def tangent_components(q: Any) -> tuple[Any, Any, Any]:
     """``R(q) e3 |q|²``: the third column of the rotation matrix times ``|q|²`` (quadratic in ``q``)."""
     w, x, y, z = q

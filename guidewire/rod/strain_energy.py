@@ -15,8 +15,9 @@ chain with ``d2`` normal to its plane is the 2-D model term for term. A node wit
 bending into two half joints against a frame ``q*`` with ``d3 = t*`` (as the 2-D scheme does), each in its bar's own
 axes (so the arbitrary roll of ``q*`` drops out); the twist across that node stays one term between the two bars.
 
-Cost: one pass over the joints with 6-variable jets (:mod:`guidewire.rod.jet`), O(n); the Hessian is block
-tridiagonal with 3 × 3 blocks (a joint couples its two bars only).
+Cost: one pass over the joints with 4-variable jets (:mod:`guidewire.rod.jet`) in the relative rotation ``r``,
+carried to the joint's six chart variables by the chain rule, O(n); the Hessian is block tridiagonal with 3 × 3
+blocks (a joint couples its two bars only).
 """
 
 from __future__ import annotations
@@ -152,25 +153,31 @@ class StrainEnergy:
 
     def evaluate(self, q0: FloatArray, basis: FloatArray, omega: FloatArray, derivatives: bool = True) -> EnergyParts:
         """Energy at ``q_k = q0_k + basis_k ω_k`` (shapes (n, 4), (n, 4, 3), (n, 3))."""
-        n = self.n
         q = q0 + np.einsum("kij,kj->ki", basis, omega)
-        # full joints: variables (ω_left, ω_right), the clamp's left side a constant
+        # full joints: the strains as jets in the four components of r = q̄_a ⊗ q_b, carried to the joint's
+        # variables (ω_left, ω_right) by the chain rule (r is bilinear in the two frames, each affine in its ω): the
+        # jets then hold 4 × 4 Hessians instead of 6 × 6; the clamp's left side is a constant
         left_value = np.vstack((self.base, q[:-1]))
         left_slope = np.concatenate((np.zeros((1, 4, 3)), basis[:-1]))
-        zeros = np.zeros((n, 4, 3))
-        qa = [Jet.affine(left_value[:, c], np.concatenate((left_slope[:, c], zeros[:, c]), axis=1)) for c in range(4)]
-        qb = [Jet.affine(q[:, c], np.concatenate((zeros[:, c], basis[:, c]), axis=1)) for c in range(4)]
-        k1, k2, tau = joint_strain(quat.relative_affine(qa, qb), "mid")
+        r, jac_left, jac_right = quat.relative_jacobians(left_value, left_slope, q, basis)
+        k1, k2, tau = joint_strain(Jet.variables(r), "mid")
         bend = (k1.square() + (k2 - self.joint_rest).square()) * self.joint_bending
         twist = tau.square() * self.joint_twist
         joint = bend + twist
         bending = float(bend.value.sum())
         twisting = float(twist.value.sum())
-        gradient = joint.grad[:, 3:].copy()
-        gradient[:-1] += joint.grad[1:, :3]
-        diagonal = joint.hess[:, 3:, 3:].copy()
-        diagonal[:-1] += joint.hess[1:, :3, :3]
-        off = joint.hess[1:, :3, 3:].copy()
+        grad_left = np.einsum("mi,mia->ma", joint.grad, jac_left)
+        grad_right = np.einsum("mi,mia->ma", joint.grad, jac_right)
+        # Hessian: Jᵀ H J over (ω_left, ω_right), plus Σ_i ∂E/∂r_i ∂²r_i, whose only block is the cross one
+        # (∂²r/∂ω_left∂ω_right = Σ_jk RELATIVE_ijk E_left,j ⊗ E_right,k)
+        h_jr = joint.hess @ jac_right
+        weights = np.einsum("mi,ijk->mjk", joint.grad, quat.RELATIVE)
+        cross = jac_left.transpose(0, 2, 1) @ h_jr + left_slope.transpose(0, 2, 1) @ (weights @ basis)
+        gradient = grad_right.copy()
+        gradient[:-1] += grad_left[1:]
+        diagonal = jac_right.transpose(0, 2, 1) @ h_jr
+        diagonal[:-1] += (jac_left[1:].transpose(0, 2, 1) @ joint.hess[1:]) @ jac_left[1:]
+        off = cross[1:]
         if self.half_bar.size:
             b = self.half_bar
             qk = [Jet.affine(q[b, c], basis[b, c]) for c in range(4)]
@@ -191,8 +198,27 @@ class StrainEnergy:
 
     def value(self, q: FloatArray) -> tuple[float, float]:
         """``(bending, twist)`` in N·mm of frames ``q`` (n, 4), without derivatives."""
-        parts = self.evaluate(q, np.zeros((self.n, 4, 3)), np.zeros((self.n, 3)))
-        return parts.bending, parts.twist
+        return self.values(q, np.zeros((self.n, 4, 3)), np.zeros((self.n, 3)))
+
+    def values(self, q0: FloatArray, basis: FloatArray, omega: FloatArray) -> tuple[float, float]:
+        """``(bending, twist)`` of :meth:`evaluate` at the same point without its derivatives (a line search's trial
+        point): the same operations on the values, so the same numbers bit for bit, at a fraction of the cost."""
+        q = q0 + np.einsum("kij,kj->ki", basis, omega)
+        r = np.einsum("ijk,mj,mk->mi", quat.RELATIVE, np.vstack((self.base, q[:-1])), q)
+        k1, k2, tau = joint_strain([Jet.constant(r[:, i], 0) for i in range(4)], "mid")
+        bending = float(((k1.square() + (k2 - self.joint_rest).square()) * self.joint_bending).value.sum())
+        twisting = float((tau.square() * self.joint_twist).value.sum())
+        if self.half_bar.size:
+            qk = [Jet.constant(q[self.half_bar, c], 0) for c in range(4)]
+            star = [Jet.constant(self.half_frame[:, c], 0) for c in range(4)]
+            before = self.half_side > 0
+            for mask, pair, axes in ((before, (qk, star), "a"), (~before, (star, qk), "b")):
+                if np.any(mask):
+                    h1, h2, h3 = joint_strain([_take(j, mask) for j in quat.relative_affine(*pair)], axes)
+                    bending += float(((h1.square() + (h2 - self.half_rest[mask]).square())
+                                      * self.half_weight[mask]).value.sum())
+                    twisting += float((h3.square() * self.half_twist[mask]).value.sum())
+        return bending, twisting
 
 
 def _columns(terms) -> tuple[IntArray, IntArray]:  # noqa: ANN001  (guidewire.energy.EnergyTerms)

@@ -149,6 +149,18 @@ class Program:
             self._cache.update(tangent_key=key, tangents=kinematics.tangents(self.q0, self.basis, omega))
         return self._cache["tangents"]
 
+    def tangent_values(self, z: FloatArray) -> FloatArray:
+        """The unit tangents of :meth:`tangents` without their derivatives (the closure rows' values at a trial point
+        the line search may reject; the same numbers)."""
+        key = np.asarray(z, dtype=float).tobytes()
+        if self._cache.get("tangent_key") == key:
+            return self._cache["tangents"][0]
+        if self._cache.get("tangent_value_key") != key:
+            omega, _ = self.split(z)
+            t = kinematics.tangents(self.q0, self.basis, omega, derivatives=False)[0]
+            self._cache.update(tangent_value_key=key, tangent_values=t)
+        return self._cache["tangent_values"]
+
     # -- objective -----------------------------------------------------------------------------------------------
     def parts(self, z: FloatArray) -> EnergyParts:
         key = np.asarray(z, dtype=float).tobytes()
@@ -157,8 +169,21 @@ class Program:
             self._cache.update(key=key, parts=self.energy.evaluate(self.q0, self.basis, omega))
         return self._cache["parts"]
 
+    def energy_values(self, z: FloatArray) -> tuple[float, float]:
+        """``(bending, twist)`` at ``z``: from :meth:`parts` when evaluated there, else without derivatives (a trial
+        point of the line search, often rejected: its derivatives would be wasted; the same numbers)."""
+        key = np.asarray(z, dtype=float).tobytes()
+        if self._cache.get("key") == key:
+            parts = self._cache["parts"]
+            return parts.bending, parts.twist
+        if self._cache.get("value_key") != key:
+            omega, _ = self.split(z)
+            self._cache.update(value_key=key, values=self.energy.values(self.q0, self.basis, omega))
+        return self._cache["values"]
+
     def fun(self, z: FloatArray) -> float:
-        value = self.parts(z).total
+        bending, twist = self.energy_values(z)
+        value = bending + twist
         if self.scene.tip_force is not None:
             value -= self.scale * float(np.dot(self.scene.tip_force, np.asarray(z)[-3:]))
         return value
@@ -210,7 +235,7 @@ class Program:
 
         def fun(z: FloatArray) -> FloatArray:
             _, p = self.split(z)
-            t = self.tangents(z)[0]
+            t = self.tangent_values(z)
             return (np.diff(p, axis=0) - lengths[:, None] * t).ravel()
 
         def jac(z: FloatArray) -> sp.csr_matrix:

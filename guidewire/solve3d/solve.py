@@ -142,7 +142,7 @@ def answer(program: Program, res: Any, iterations: int, rounds: int, seconds: fl
     q = program.frames(z)
     _, nodes_var = program.split(z)
     nodes = kinematics.nodes(program.base_point, program.lengths, q)  # the chain's own kinematics
-    parts = program.parts(z)  # (the last point the solve evaluated: its energy, no new evaluation)
+    bending, twist_energy = program.energy_values(z)  # (the last point the solve evaluated: no new evaluation)
     twist = joint_twists(program.energy.base, q)
     forces: list[ContactForce3D] = []
     clamp_f, clamp_m = np.zeros(3), np.zeros(3)
@@ -153,8 +153,8 @@ def answer(program: Program, res: Any, iterations: int, rounds: int, seconds: fl
         clamp_f, clamp_m, forces = external_forces(program, list(res.constraint_multipliers), nodes, nodes_var, q,
                                                    extras)
     return Solution3D(success=success, status=int(res.status), message=str(res.message), nodes=nodes,
-                      frames=quat.to_frames(q), quaternions=q, bending_energy=parts.bending,
-                      twist_energy=parts.twist, twist=twist, base_rotation=scene.base.rotation, forces=forces,
+                      frames=quat.to_frames(q), quaternions=q, bending_energy=bending,
+                      twist_energy=twist_energy, twist=twist, base_rotation=scene.base.rotation, forces=forces,
                       clamp_force=clamp_f, clamp_moment=clamp_m, iterations=iterations, rounds=rounds,
                       solve_time_s=seconds, lengths=program.lengths, extras=extras)
 

@@ -160,8 +160,13 @@ class Tube:
             G = parts.a * parts.hu
             slope = parts.a1 * parts.hu + parts.a * parts.huu
             step = np.where(slope < 0.0, -G / np.where(slope < 0.0, slope, -1.0), np.sign(G) * h)
-            u = np.clip(u + np.clip(step, -h, h), 0.0, self.top)
-        return self.evaluate(u)
+            u_next = np.clip(u + np.clip(step, -h, h), 0.0, self.top)
+            if np.array_equal(u_next, u):
+                break  # (a fixed point: every further step, a function of u alone, would give u again)
+            u = u_next
+        else:
+            return self.evaluate(u)
+        return e
 
     def rows(self, p: FloatArray, r: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, Closest]:
         """``g`` (m,), ``∇g`` (m, 3), ``∇²g`` (m, 3, 3) and the closest-ball data (see the module docstring)."""

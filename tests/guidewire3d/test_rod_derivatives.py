@@ -119,3 +119,45 @@ def test_relative_of_affine_jets_is_the_jet_product(seed):
         for fast, slow in zip(quat.relative_affine(a, b), quat.relative(a, b), strict=True):
             for x, y in ((fast.value, slow.value), (fast.grad, slow.grad), (fast.hess, slow.hess)):
                 np.testing.assert_allclose(x, y, rtol=0.0, atol=1e-13 * max(1.0, np.abs(y).max()))
+
+
+@pytest.mark.parametrize("n, seed, nodes, held", [(1, 0, (), False), (9, 2, (3,), False), (12, 3, (5, 12), False),
+                                                  (8, 5, (4, 8), True), (30, 7, (), False)])
+def test_values_without_derivatives_are_the_evaluated_ones(n, seed, nodes, held):
+    """The energy and the tangents at a point without derivatives (a line search's trial point) are those of the
+    full evaluation bit for bit, so a trial point and the iterate it becomes agree exactly."""
+    energy, q0, basis, omega = _random_rod(n, seed, tangent_nodes=nodes, held=held)
+    parts = energy.evaluate(q0, basis, omega)
+    assert energy.values(q0, basis, omega) == (parts.bending, parts.twist)
+    t, dt, ddt = kinematics.tangents(q0, basis, omega, derivatives=False)
+    assert dt is None and ddt is None
+    assert np.array_equal(t, kinematics.tangents(q0, basis, omega)[0])
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_energy_through_the_relative_rotation_is_the_six_variable_jet_energy(seed):
+    """The joint energy's derivatives by the chain rule through ``r = q̄_a ⊗ q_b`` (4-variable jets) are those of
+    the strains as jets in the joint's six chart variables, to rounding."""
+    from guidewire.rod.jet import Jet
+    from guidewire.rod.strain import joint_strain
+
+    energy, q0, basis, omega = _random_rod(10, seed)
+    n = energy.n
+    parts = energy.evaluate(q0, basis, omega)
+    q = q0 + np.einsum("kij,kj->ki", basis, omega)
+    left = np.vstack((energy.base, q[:-1]))
+    slope = np.concatenate((np.zeros((1, 4, 3)), basis[:-1]))
+    zeros = np.zeros((n, 4, 3))
+    qa = [Jet.affine(left[:, c], np.concatenate((slope[:, c], zeros[:, c]), axis=1)) for c in range(4)]
+    qb = [Jet.affine(q[:, c], np.concatenate((zeros[:, c], basis[:, c]), axis=1)) for c in range(4)]
+    k1, k2, tau = joint_strain(quat.relative_affine(qa, qb), "mid")
+    joint = ((k1.square() + (k2 - energy.joint_rest).square()) * energy.joint_bending
+             + tau.square() * energy.joint_twist)
+    gradient = joint.grad[:, 3:].copy()
+    gradient[:-1] += joint.grad[1:, :3]
+    diagonal = joint.hess[:, 3:, 3:].copy()
+    diagonal[:-1] += joint.hess[1:, :3, :3]
+    scale = max(1.0, np.abs(joint.hess).max())
+    np.testing.assert_allclose(parts.gradient, gradient, rtol=0.0, atol=1e-12 * scale)
+    np.testing.assert_allclose(parts.diagonal, diagonal, rtol=0.0, atol=1e-12 * scale)
+    np.testing.assert_allclose(parts.off_diagonal, joint.hess[1:, :3, 3:], rtol=0.0, atol=1e-12 * scale)

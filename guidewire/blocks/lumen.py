@@ -70,7 +70,7 @@ MIN_WEDGE = 0.1
 KEY_STRIDE = 1 << 24
 """Row keys: ``node + side × KEY_STRIDE`` (side 0 the nearest wall, 1 across, ``2 + c`` corner ``c``)."""
 
-CACHES = ("_rows", "_slack")
+CACHES = ("_kept_rows", "_kept_slack")
 """What a :class:`Lumen` keeps besides its fields: its rows (:meth:`Lumen.rows`) and its last slack
 (:meth:`Lumen.slack`)."""
 
@@ -198,12 +198,12 @@ class Lumen(Block):
     def rows(self, model: Model) -> NodeRows:
         """The rows' quadratic models (module docstring), built once per block (they depend on the block's fields
         alone; the program, the refinement and the loads all read them): read-only arrays."""
-        built = self.__dict__.get("_rows")
+        built = self.__dict__.get("_kept_rows")
         if built is None:
             built = self._build_rows()
             for array in (built.directions, built.lb, built.ub, built.hessians):
                 array.flags.writeable = False
-            object.__setattr__(self, "_rows", built)  # (a cache, not a field: frozen, compared and replaced without it)
+            object.__setattr__(self, "_kept_rows", built)  # (a cache, not a field: not compared, copied or pickled)
         return built
 
     def _build_rows(self) -> NodeRows:
@@ -233,12 +233,12 @@ class Lumen(Block):
         """True clearance minus the clearance needed, at every node 1..n (mm; negative: outside the lumen or too
         near one of its corners). The last answer is kept (read-only): a solve asks for it at its answer twice, to
         refine the rows (:meth:`refine`) and to check the shape (:meth:`violation`)."""
-        kept = self.__dict__.get("_slack")
+        kept = self.__dict__.get("_kept_slack")
         if kept is not None and kept[0]() is model and np.array_equal(kept[1], points):
             return kept[2]
         slack = self._slack(model, points)
         slack.flags.writeable = False
-        object.__setattr__(self, "_slack", (weakref.ref(model), np.array(points, dtype=float), slack))  # (a cache)
+        object.__setattr__(self, "_kept_slack", (weakref.ref(model), np.array(points, dtype=float), slack))  # (a cache)
         return slack
 
     def _slack(self, model: Model, points: FloatArray) -> FloatArray:

@@ -142,8 +142,12 @@ class ReducedLayout:
         return []
 
     def newton_options(self, blocks: Sequence[Block]) -> dict[str, Any]:
-        """Options of :func:`sqp.minimize` with exact Hessians for this layout: the engine's defaults."""
-        return {}
+        """Options of :func:`sqp.minimize` with exact Hessians for this layout: with curved (lumen) rows, each QP
+        first solved on the active set its last multipliers guess (``active_set_guess``: for this dense program the
+        range-space solve of the rows guessed, :func:`sqp.subproblem._factored_guess`, where DAQP transforms every
+        row); else the engine's defaults."""
+        curved = any(isinstance(r, NodeRows) and not r.linear for r in (b.rows(self.model) for b in blocks))
+        return {"active_set_guess": True} if curved else {}
 
     def node_rows(self, rows: NodeRows) -> Any:
         chain, point = self.model.chain, self.point

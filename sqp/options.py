@@ -105,7 +105,7 @@ class Options:
         (:class:`sqp.hessian.CholeskyHessian`, an exact Hessian convexified) gets the same guess by the
         range-space method (:func:`sqp.subproblem._factored_guess`): the solution DAQP gives, to rounding, without
         transforming every row into the factor's coordinates (the guidewire's 250 mm arch insertion, 200-250 bars
-        and 400-500 dense rows: 3 QPs a step, about 2.5 ms each with DAQP).
+        and 400-500 dense rows: about 3 ms a QP with DAQP).
     restoration : bool
         After an INFEASIBLE end with nonlinear rows, minimise the violation from the last point
         (:mod:`sqp.restoration`) and report that point, or solve again from it when its violation is within

@@ -235,7 +235,10 @@ def _solve_plain(B: Any, g: Array, nonlinear: LinearisedRows, linear: Linearised
         return _failed(n, nonlinear, linear, "indefinite")
     if guess or (factored and not sp.issparse(E) and not sp.issparse(G)):
         # (with no inequality rows: the equality QP by one banded KKT solve, or the range-space one)
-        solves = FIRST_GUESSES if first else MAX_GUESSES
+        # (the first QP's guess, from starting multipliers, is tried once on a banded solve, whose corrections
+        # wandered on the 3-D program; a range-space correction costs O(n² k), a fraction of DAQP's set-up, and
+        # the first QP of a warm insertion step usually needs one: 61 of 166 QPs to DAQP on the bend, 16 so)
+        solves = FIRST_GUESSES if first and guess else MAX_GUESSES
         found = (guessed_qp(B, g, E, e, G, h, active, scale, solves) if guess
                  else _factored_guess(B, g, E, e, G, h, active, scale, solves))
         if found is not None:

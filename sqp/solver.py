@@ -158,8 +158,8 @@ def minimize(
         Backends asked when the chosen one fails a subproblem (:attr:`sqp.Options.qp_fallbacks`); None: its
         default.
     active_set_guess : bool
-        Solve each sparse QP with inequality rows first on the active set the last multipliers guess, the backends
-        asked only when that fails (:attr:`sqp.Options.active_set_guess`).
+        Solve each QP with inequality rows and a sparse (or a factored dense) model Hessian first on the active set
+        the last multipliers guess, the backends asked only when that fails (:attr:`sqp.Options.active_set_guess`).
     step_bound : float
         Largest change of any variable in each of the first :data:`~sqp.termination.RESTART_BOUNDED_ITERATIONS`
         steps (a box trust region on those QPs, :attr:`sqp.Options.step_bound`); ``inf`` (the default): none. For a

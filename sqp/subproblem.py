@@ -24,7 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from sqp.active_set import FIRST_GUESSES, MAX_GUESSES, guessed_qp
+from sqp.active_set import ACTIVE_SET_TOL, FIRST_GUESSES, MAX_GUESSES, guessed_qp
 from sqp.kkt import inf_norm
 from sqp.problem import Rows
 from sqp.qp_call import QP_RESIDUAL_TOL, Backends, solve_qp
@@ -219,6 +219,8 @@ def _solve_plain(B: Any, g: Array, nonlinear: LinearisedRows, linear: Linearised
     n = g.size
     has_box = bool(np.isfinite(box_lo).any() or np.isfinite(box_hi).any())
     guess = active is not None and sp.issparse(B) and not has_box
+    factored = (active is not None and not has_box and not sp.issparse(B)
+                and getattr(B, "cholesky", None) is not None)  # a dense B with its factor: the range-space guess
     # (CSR for the guessed active set's row picks; a backend asked after all gets the same matrices in CSC)
     E, e, G, h, where = _stack_rows([nonlinear, linear], n, "csr" if guess else "csc")
     if not has_box and G.shape[0] == 0:
@@ -231,8 +233,14 @@ def _solve_plain(B: Any, g: Array, nonlinear: LinearisedRows, linear: Linearised
                           found=True, elastic=False, slack=0.0, status="kkt")
     if needs_convexification(B):
         return _failed(n, nonlinear, linear, "indefinite")
-    if guess:  # (with no inequality rows: the equality QP by one banded KKT solve)
-        found = guessed_qp(B, g, E, e, G, h, active, scale, FIRST_GUESSES if first else MAX_GUESSES)
+    if guess or (factored and not sp.issparse(E) and not sp.issparse(G)):
+        # (with no inequality rows: the equality QP by one banded KKT solve, or the range-space one)
+        # (the first QP's guess, from starting multipliers, is tried once on a banded solve, whose corrections
+        # wandered on the 3-D program; a range-space correction costs O(n² k), a fraction of DAQP's set-up, and
+        # the first QP of a warm insertion step usually needs one: 61 of 166 QPs to DAQP on the bend, 16 so)
+        solves = FIRST_GUESSES if first and guess else MAX_GUESSES
+        found = (guessed_qp(B, g, E, e, G, h, active, scale, solves) if guess
+                 else _factored_guess(B, g, E, e, G, h, active, scale, solves))
         if found is not None:
             d, y, z = found
             return QPStep(d=d, lam_nl=_row_multipliers(nonlinear.rows, y, z, where[0]),
@@ -250,6 +258,47 @@ def _solve_plain(B: Any, g: Array, nonlinear: LinearisedRows, linear: Linearised
         lam_lin=_row_multipliers(linear.rows, y, z, where[1]), z=zb, found=True, elastic=False, slack=0.0,
         status="optimal" if used == backends[0][0] else f"opt[{used}]",
     )
+
+
+def _factored_guess(B: Any, g: Array, E: Array, e: Array, G: Array, h: Array, active: NDArray[np.bool_],
+                    scale: float, solves: int) -> tuple[Array, Array, Array] | None:
+    """:func:`sqp.active_set.guessed_qp` for a dense ``B`` that carries its Cholesky factor
+    (:class:`sqp.hessian.CholeskyHessian`): each guess's equality QP on ``E`` and the rows ``G_A`` guessed active by
+    the range-space method (:func:`sqp.structured.range_space_kkt`, ``O(n² k)`` for ``k`` rows), corrected as the
+    primal-dual active-set method does for at most ``solves`` solves; ``(d, y, z)`` when a guess's step meets every
+    row, its multipliers are nonnegative and it passes a backend's residual check (then it is the QP's unique
+    solution: the KKT conditions of a strictly convex QP), else None.
+
+    A backend in the factor's coordinates (DAQP on ``G L^-T``) transforms every row, active or not (``O(n² m)``);
+    with few of the ``m`` rows active, as in an SQP near its solution or warm-started from a neighbour's answer, the
+    guess costs a fraction of that."""
+    L = B.cholesky
+    tol = ACTIVE_SET_TOL * scale
+    m_eq = e.size
+    active = np.asarray(active, dtype=bool).copy()
+    for _ in range(solves):
+        rows = np.flatnonzero(active)
+        C = np.vstack((E, G[rows])) if rows.size else E
+        step = range_space_kkt(L, g, C, np.concatenate((e, h[rows])))
+        if step is None:
+            return None
+        d, w = step
+        z_active = w[m_eq:]
+        slack = G @ d - h
+        leave = rows[z_active < -tol]
+        join = np.flatnonzero(~active & (slack > tol))
+        if not leave.size and not join.size:
+            z = np.zeros(h.size)
+            z[rows] = np.maximum(z_active, 0.0)
+            y = w[:m_eq]
+            if not (np.isfinite(d).all() and np.isfinite(w).all()):
+                return None
+            dual = inf_norm(B @ d + g + E.T @ y + G.T @ z)
+            prim = max(inf_norm(E @ d - e) if m_eq else 0.0, float(np.max(slack, initial=0.0)))
+            return (d, y, z) if max(dual, prim) <= QP_RESIDUAL_TOL * scale else None
+        active[leave] = False
+        active[join] = True
+    return None
 
 
 def _equality_qp(B: Any, g: Array, E: Any, e: Array, scale: float) -> tuple[Array, Array] | None:

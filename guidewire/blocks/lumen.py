@@ -42,6 +42,7 @@ Every node is checked against the true lumen before a shape is returned (:meth:`
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, ClassVar
 
@@ -68,6 +69,10 @@ MIN_WEDGE = 0.1
 
 KEY_STRIDE = 1 << 24
 """Row keys: ``node + side × KEY_STRIDE`` (side 0 the nearest wall, 1 across, ``2 + c`` corner ``c``)."""
+
+CACHES = ("_kept_rows", "_kept_slack")
+"""What a :class:`Lumen` keeps besides its fields: its rows (:meth:`Lumen.rows`) and its last slack
+(:meth:`Lumen.slack`)."""
 
 TOUCHING_BARS = 0.1
 """A node within this many bar lengths of its row's bound touches it (only those rows need to be exact)."""
@@ -181,12 +186,27 @@ class Lumen(Block):
         return cls((0,), rows, centres=points[rows].copy(), normals=normals, depths=depths, curvatures=curvatures,
                    needed=needed, sides=sides)
 
+    def __getstate__(self) -> dict[str, Any]:
+        """The fields only (what pickling and copying keep): the cached rows and slack are rebuilt on demand."""
+        return {name: value for name, value in self.__dict__.items() if name not in CACHES}
+
     @property
     def row_keys(self) -> IntArray:
         """``k + side × KEY_STRIDE`` for node ``k``'s row on ``side`` (see :attr:`sides`)."""
         return self.nodes + self.sides * KEY_STRIDE
 
     def rows(self, model: Model) -> NodeRows:
+        """The rows' quadratic models (module docstring), built once per block (they depend on the block's fields
+        alone; the program, the refinement and the loads all read them): read-only arrays."""
+        built = self.__dict__.get("_kept_rows")
+        if built is None:
+            built = self._build_rows()
+            for array in (built.directions, built.lb, built.ub, built.hessians):
+                array.flags.writeable = False
+            object.__setattr__(self, "_kept_rows", built)  # (a cache, not a field: not compared, copied or pickled)
+        return built
+
+    def _build_rows(self) -> NodeRows:
         tangent = np.column_stack((-self.normals[:, 1], self.normals[:, 0]))
         wall = np.isfinite(self.curvatures)
         kappa = np.where(wall, self.curvatures, 0.0)
@@ -211,7 +231,17 @@ class Lumen(Block):
 
     def slack(self, model: Model, points: FloatArray) -> FloatArray:
         """True clearance minus the clearance needed, at every node 1..n (mm; negative: outside the lumen or too
-        near one of its corners)."""
+        near one of its corners). The last answer is kept (read-only): a solve asks for it at its answer twice, to
+        refine the rows (:meth:`refine`) and to check the shape (:meth:`violation`)."""
+        kept = self.__dict__.get("_kept_slack")
+        if kept is not None and kept[0]() is model and np.array_equal(kept[1], points):
+            return kept[2]
+        slack = self._slack(model, points)
+        slack.flags.writeable = False
+        object.__setattr__(self, "_kept_slack", (weakref.ref(model), np.array(points, dtype=float), slack))  # (a cache)
+        return slack
+
+    def _slack(self, model: Model, points: FloatArray) -> FloatArray:
         nodes = np.arange(1, model.n + 1)
         c = model.scene.vessel.clearance(points[1:])
         slack = c.distance - _needed(model, c.curvature, nodes)

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..chain.kinematics import scene_bars
+from ..chain.kinematics import BarChain, scene_bars
 from ..program.model import ModelReuse
 from ..scene.file import scene_to_dict
 from ..scene.scene import Scene
@@ -142,12 +142,21 @@ def _steered_extension(angles: FloatArray, lengths: FloatArray, s_mid: FloatArra
     Continuing the tip's tangent can run the new nodes through the wall where the tip meets it head on (the aortic
     arch at 176 mm: 0.6 mm outside, next to a branch's corner), and a start that far outside sends the solve into
     elastic QPs (10 s there, against 0.2 s cold); a tip deflected along the wall is what the pushed wire does
-    anyway. Left unchanged when the straight extension is inside, or when no turn is."""
+    anyway. Left unchanged when the straight extension is inside, or when no turn is.
+
+    The straight extension is checked on the start's nodes as the solve's chain computes them (the bars of
+    :func:`~guidewire.chain.scene_bars` from the scene's base): the clearance asked for every node is the one the
+    lumen's rows ask for at that start, which the vessel then answers from its memo (the nodes carried over from the
+    previous answer from that answer's query, the new ones once)."""
     new = np.flatnonzero(s_mid > s_tip)
     if new.size == 0:
         return angles
-    base = prev.nodes[0] + np.sum(lengths[:new[0], None] * _directions(angles[:new[0]]), axis=0)
     need = 0.5 * scene.wire.properties_at(s_mid[new]).diameter
+    chain = BarChain(np.asarray(scene.base.point, dtype=float), np.asarray(scene_bars(scene)[0], dtype=float))
+    nodes = chain.nodes(angles)
+    if np.all(scene.vessel.clearance(nodes[1:]).distance[new] >= need):
+        return angles
+    base = nodes[new[0]]
 
     def inside(turns: FloatArray) -> NDArray[np.bool_]:
         steps = lengths[new][None, :, None] * _directions(angles[new][None, :] + turns[:, None])
@@ -155,8 +164,6 @@ def _steered_extension(angles: FloatArray, lengths: FloatArray, s_mid: FloatArra
         clear = scene.vessel.clearance(points.reshape(-1, 2)).distance.reshape(points.shape[:2])
         return np.all(clear >= need, axis=1)
 
-    if inside(np.zeros(1))[0]:
-        return angles
     ok = inside(EXTENSION_TURNS)
     if not ok.any():
         return angles

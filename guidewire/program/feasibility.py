@@ -168,14 +168,21 @@ def vessel_positions(scene: Scene) -> str | None:
     if vessel is None:
         return None
     positions = _positions(scene)
-    clearance = vessel.clearance(np.array([p for _, _, p, _ in positions]))
-    for (name, s, p, _), d, half in zip(positions, clearance.distance, _half_diameters(scene, positions), strict=True):
+    distances = _clearances(vessel, tuple(p for _, _, p, _ in positions))
+    for (name, s, p, _), d, half in zip(positions, distances, _half_diameters(scene, positions), strict=True):
         if d < half - 1e-9 * max(1.0, abs(half)):
             where = "outside the lumen" if d < 0.0 else "too close to the lumen's wall"
             return (f"{_point_label(name, p, s)} is {where}: its clearance is {d:.4g} mm but the wire needs d/2 = "
                     f"{_fmt(half)} mm; move it into the vessel (omit [base] to start at the entrance "
                     f"{_fmt_point(vessel.entrance_point)})")
     return None
+
+
+@lru_cache(maxsize=8)
+def _clearances(vessel: Any, points: tuple[tuple[float, float], ...]) -> tuple[float, ...]:
+    """The vessel's signed clearance (mm) at each of ``points`` (kept per vessel and points: an insertion checks the
+    same base at every step, and a closest-point search costs far more than the check around it)."""
+    return tuple(float(d) for d in vessel.clearance(np.array(points, dtype=float)).distance)
 
 
 def _half_diameters(scene: Scene, positions: list[tuple[str, float, tuple[float, float], int]]) -> FloatArray:
@@ -211,6 +218,8 @@ def vessel_direction(scene: Scene) -> str | None:
 def taut_angles(scene: Scene) -> str | None:
     """A stretch of wire pulled straight between two positions, with a prescribed angle off its chord."""
     points = _positions(scene)
+    if len(points) < 2:  # no stretch between two positions (the bars are not needed)
+        return None
     lengths, nodes = _bars(scene)
     node_of = {-1: 0, **{i: int(k) for i, k in enumerate(nodes)}}
     for (name_a, s_a, p_a, i_a), (name_b, s_b, p_b, i_b) in zip(points, points[1:], strict=False):
@@ -296,6 +305,8 @@ def _rigid(pair: str, distance: float, n: int, fixed: str, what: str, need: floa
 def discrete_reach(scene: Scene) -> str | None:
     """Two prescribed positions the bars between them cannot join, given the anchors and b₂."""
     n = scene.wire.bars
+    if len(_positions(scene)) < 2:  # no two positions to join (every reason below is about a pair)
+        return None
     lengths, nodes = _bars(scene)
     anchors = _anchors(scene, nodes)
     b2 = math.inf if scene.wire.max_relative_angle is None or _rest_curved(scene) else scene.wire.max_relative_angle

@@ -142,24 +142,30 @@ class ReducedLayout:
         return []
 
     def newton_options(self, blocks: Sequence[Block]) -> dict[str, Any]:
-        """Options of :func:`sqp.minimize` with exact Hessians for this layout: the engine's defaults."""
-        return {}
+        """Options of :func:`sqp.minimize` with exact Hessians for this layout: with curved (lumen) rows, each QP
+        first solved on the active set its last multipliers guess (``active_set_guess``: for this dense program the
+        range-space solve of the rows guessed, :func:`sqp.subproblem._factored_guess`, where DAQP transforms every
+        row); else the engine's defaults."""
+        curved = any(isinstance(r, NodeRows) and not r.linear for r in (b.rows(self.model) for b in blocks))
+        return {"active_set_guess": True} if curved else {}
 
     def node_rows(self, rows: NodeRows) -> Any:
         chain, point = self.model.chain, self.point
         k = rows.nodes
         mask = np.arange(chain.n_bars)[None, :] < k[:, None]  # bar j+1 ≤ node k
-        dx, dy = rows.directions[:, 0:1], rows.directions[:, 1:2]
 
         def value(phi: FloatArray) -> FloatArray:
             return rows.values(point.at(phi).nodes)
 
         def jac(phi: FloatArray) -> FloatArray:
             at = point.at(phi)
-            if rows.linear:
-                return mask * (dx * -at.lsin[None, :] + dy * at.lcos[None, :])
-            d = rows.gradients(at.nodes)
-            return mask * (d[:, 0:1] * -at.lsin[None, :] + d[:, 1:2] * at.lcos[None, :])
+            d = rows.directions if rows.linear else rows.gradients(at.nodes)
+            # mask · (d_x · (−l sin φ) + d_y · l cos φ), written into one (m, n) array (the same operations in
+            # the same order as the expression; the dense Jacobian is the largest array of an iteration)
+            out = np.multiply(d[:, 0:1], -at.lsin[None, :])
+            out += np.multiply(d[:, 1:2], at.lcos[None, :])
+            out *= mask
+            return out
 
         def hess(phi: FloatArray, v: FloatArray) -> Any:
             v = np.asarray(v, dtype=float)

@@ -230,8 +230,8 @@ class TubeGeometry:
         if kind == "near":
             return self._wall(record, 1.0)
         far = self._wall(record, -1.0)
-        check = self.clearance(far.boundary)
-        gone = check.distance > FAR_WALL_TOLERANCE * far.distance
+        check = self.search(far.boundary)  # (only its signed distance is needed: :meth:`_wall`'s ``radius − r``)
+        gone = check["radius"] - check["r"] > FAR_WALL_TOLERANCE * far.distance
         return Clearance(distance=np.where(gone, np.inf, far.distance), normal=far.normal, boundary=far.boundary,
                          curvature=far.curvature)
 

@@ -25,8 +25,8 @@ from threadpoolctl import threadpool_limits  # noqa: E402
 import sqp  # noqa: E402
 
 #: How ``guidewire.solve`` picks its QP backend when none is named (``qp_solver=None``), in words.
-AUTO_QP_SOLVER = ("auto (sqp's structural choice: DAQP ≤ 300 variables, PIQP for larger all-sparse programs, "
-                  "Clarabel for larger with dense rows)")
+AUTO_QP_SOLVER = ("auto (sqp's structural choice: PIQP for programs above 300 variables whose rows are all sparse, "
+                  "DAQP otherwise)")
 
 
 def one_thread() -> Any:

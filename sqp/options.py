@@ -116,6 +116,13 @@ class Options:
         full-space vessel program (S-bend and tortuous vessels, 320-800 bars) the full ladder reached model
         diagonals of 1e15, the guessed active set failed its residual check and PIQP its iteration limit (a solve
         took 2.8-20 s); with 5 rungs and the shift on top, 0.25-2.1 s and the same energies to 1e-9.
+    extend_shifted_steps : bool
+        With exact Hessians, whether a full step of a model that needed an identity shift is extended (doubled
+        while the merit function keeps falling, :func:`sqp.linesearch.expanded`; True, the default): near a saddle
+        the shifted step creeps at ``|g| / delta``. On the guidewire's compressed 2-D wires it took the S-bend at
+        400 bars from 512 iterations to 77 and a double well from its saddle in 5-13 instead of 23-35. A program
+        whose shifted steps cross a snap (the guidewire's 3-D J tip turned in a helix) may spend the doublings
+        overshooting; there False (measured there: 75 s for the whole turn against more than 7 min).
     restoration : bool
         After an INFEASIBLE end with nonlinear rows, minimise the violation from the last point
         (:mod:`sqp.restoration`) and report that point, or solve again from it when its violation is within
@@ -146,6 +153,7 @@ class Options:
     convexify_inequalities: bool = True
     active_set_guess: bool = False
     augmented_rungs: int | None = None
+    extend_shifted_steps: bool = True
 
     def __post_init__(self) -> None:
         if not isinstance(self.tol, int | float) or not self.tol > 0:

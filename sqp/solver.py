@@ -76,6 +76,7 @@ def minimize(
     active_set_guess: bool = False,
     step_bound: float = float("inf"),
     augmented_rungs: int | None = None,
+    extend_shifted_steps: bool = True,
 ) -> Result:
     """Minimise ``fun(x, *args)`` subject to bounds and constraints by SQP; scipy's ``minimize(method="SLSQP")`` call.
 
@@ -168,6 +169,9 @@ def minimize(
     augmented_rungs : int or None
         With ``hess``: the weights of the augmented-Lagrangian ladder tried before an identity shift goes on top of
         the term (:attr:`sqp.Options.augmented_rungs`); None: the engine's ladder.
+    extend_shifted_steps : bool
+        With ``hess``: extend a full step of a shifted model while the merit keeps falling
+        (:attr:`sqp.Options.extend_shifted_steps`).
 
     Returns
     -------
@@ -208,6 +212,7 @@ def minimize(
                        callback=adapt_callback(callback), verbose=call.table,
                        convexify_inequalities=bool(convexify_inequalities), active_set_guess=bool(active_set_guess),
                        step_bound=float(step_bound), augmented_rungs=augmented_rungs,
+                       extend_shifted_steps=bool(extend_shifted_steps),
                        **({} if qp_fallbacks is None else {"qp_fallbacks": tuple(qp_fallbacks)}))
     problem = build_problem(fun, x0, jac, bounds, constraints, args, hess, call.differences)
     if problem.hess is not None and hess0 is not None:  # exact Hessians replace it: check the shape only
@@ -309,7 +314,8 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
         if (stop := monitor.after_qp(options, st, qp, nit)) is not None:  # KKT test
             break
         mu = penalties(problem, st, qp)  # penalty update (Eq. 13)
-        shifted = getattr(hessian, "shift", 0.0) > 0.0  # (the exact Hessian needed an identity shift)
+        # (the exact Hessian needed an identity shift: the full step is extended while the merit keeps falling)
+        shifted = options.extend_shifted_steps and getattr(hessian, "shift", 0.0) > 0.0
         search = merit_search(problem, options, ev, st, qp, mu, noise, shifted)  # line search on the merit (Eq. 12)
         noise = max(noise, search.noise)
         st = State(st.pt, st.der, st.B, search.mu, qp)

@@ -43,6 +43,12 @@ does not see the lumen, straightens the wire in one step 25-70 mm out of it, and
 QPs (helix, 50 mm, 25 bars: 386-587 iterations, 12-28 s; 70 mm at 50 bars: 401-431, 78-94 s). With the bound:
 10-17 iterations, the same energies to 1e-10. (0.03 took 11-17 iterations, 0.01 26-30.)"""
 
+EXTEND_SHIFTED_STEPS = False
+"""The engine's extension of shifted steps (``sqp.minimize(extend_shifted_steps=...)``) is off for the 3-D program:
+turning the J wire through a full turn in the helix (115 steps, the snap at step 99) took 75 s without it and did not
+end within 7 min with it; the first 95 steps and every step of the S-bend and the arch took the same iterations
+either way."""
+
 SPARSE_FALLBACKS = ("clarabel",)
 
 PIQP_OPTIONS = {"preconditioner_iter": 0}
@@ -92,7 +98,7 @@ def solve3d(scene: Scene3D, *, initial_nodes: Any = None, initial_frames: Any = 
     # iterations and steps, and one banded KKT solve then replaces an interior-point QP)
     options: dict[str, Any] = {"tol": tol, "max_iter": max_iter, "verbose": verbose,
                                "convexify_inequalities": False, "qp_fallbacks": SPARSE_FALLBACKS,
-                               "active_set_guess": True}
+                               "active_set_guess": True, "extend_shifted_steps": EXTEND_SHIFTED_STEPS}
     if qp_solver is not None:
         options["qp_solver"] = qp_solver
     if initial_frames is None and initial_multipliers is None:

@@ -18,6 +18,7 @@ touches one element's variables) the matrix is then banded, and LAPACK's banded 
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -188,14 +189,25 @@ def guessed_qp(B: Any, g: Array, E: Any, e: Array, G: Any, h: Array, active: NDA
     docstring)."""
     G = sp.csr_matrix(G)
     E = sp.csr_matrix(E)
+    parts = _KKTParts(B, E, G)
+    every_equality = np.ones(e.size, dtype=bool)
+    return corrected_guess(lambda rows, rhs: parts.solve(every_equality, rows, g, rhs),
+                           B, g, E, e, G, h, active, scale, solves)
+
+
+def corrected_guess(solve_kkt: Callable[[NDArray[np.intp], Array], tuple[Array, Array] | None], B: Any, g: Array,
+                    E: Any, e: Array, G: Any, h: Array, active: NDArray[np.bool_], scale: float,
+                    solves: int) -> tuple[Array, Array, Array] | None:
+    """The primal-dual active-set correction of a guess (module docstring), whatever solves each guess:
+    ``solve_kkt(rows, rhs)`` is the KKT point ``(d, w)`` of the equality QP on ``E`` and ``G[rows]`` with right-hand
+    side ``rhs`` (None when it cannot be solved). ``(d, y, z)`` when a guess's step meets every row, its multipliers
+    are nonnegative and it passes a backend's residual check, else None after ``solves`` solves."""
     m_eq = e.size
     tol = ACTIVE_SET_TOL * scale
     active = np.asarray(active, dtype=bool).copy()
-    parts = _KKTParts(B, E, G)
-    every_equality = np.ones(m_eq, dtype=bool)
     for _ in range(solves):
         rows = np.flatnonzero(active)
-        step = parts.solve(every_equality, rows, g, np.concatenate((e, h[rows])))
+        step = solve_kkt(rows, np.concatenate((e, h[rows])))
         if step is None:
             return None
         d, w = step
@@ -204,6 +216,8 @@ def guessed_qp(B: Any, g: Array, E: Any, e: Array, G: Any, h: Array, active: NDA
         leave = rows[z_active < -tol]
         join = np.flatnonzero(~active & (slack > tol))
         if not leave.size and not join.size:
+            if not (np.isfinite(d).all() and np.isfinite(w).all()):
+                return None
             z = np.zeros(h.size)
             z[rows] = np.maximum(z_active, 0.0)
             y = w[:m_eq]

@@ -24,7 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from sqp.active_set import ACTIVE_SET_TOL, FIRST_GUESSES, MAX_GUESSES, guessed_qp
+from sqp.active_set import FIRST_GUESSES, MAX_GUESSES, corrected_guess, guessed_qp
 from sqp.kkt import inf_norm
 from sqp.problem import Rows
 from sqp.qp_call import QP_RESIDUAL_TOL, Backends, solve_qp
@@ -273,32 +273,8 @@ def _factored_guess(B: Any, g: Array, E: Array, e: Array, G: Array, h: Array, ac
     with few of the ``m`` rows active, as in an SQP near its solution or warm-started from a neighbour's answer, the
     guess costs a fraction of that."""
     L = B.cholesky
-    tol = ACTIVE_SET_TOL * scale
-    m_eq = e.size
-    active = np.asarray(active, dtype=bool).copy()
-    for _ in range(solves):
-        rows = np.flatnonzero(active)
-        C = np.vstack((E, G[rows])) if rows.size else E
-        step = range_space_kkt(L, g, C, np.concatenate((e, h[rows])))
-        if step is None:
-            return None
-        d, w = step
-        z_active = w[m_eq:]
-        slack = G @ d - h
-        leave = rows[z_active < -tol]
-        join = np.flatnonzero(~active & (slack > tol))
-        if not leave.size and not join.size:
-            z = np.zeros(h.size)
-            z[rows] = np.maximum(z_active, 0.0)
-            y = w[:m_eq]
-            if not (np.isfinite(d).all() and np.isfinite(w).all()):
-                return None
-            dual = inf_norm(B @ d + g + E.T @ y + G.T @ z)
-            prim = max(inf_norm(E @ d - e) if m_eq else 0.0, float(np.max(slack, initial=0.0)))
-            return (d, y, z) if max(dual, prim) <= QP_RESIDUAL_TOL * scale else None
-        active[leave] = False
-        active[join] = True
-    return None
+    return corrected_guess(lambda rows, rhs: range_space_kkt(L, g, np.vstack((E, G[rows])) if rows.size else E, rhs),
+                           B, g, E, e, G, h, active, scale, solves)
 
 
 def _equality_qp(B: Any, g: Array, E: Any, e: Array, scale: float) -> tuple[Array, Array] | None:

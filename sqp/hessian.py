@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from typing import Any
+from typing import Any, overload
 
 import numpy as np
 import scipy.sparse as sp
@@ -213,12 +213,25 @@ def _augmented_ladder(W: Any, CtC: Any, rho: float, rungs: int, scale: float,
 SHIFT_PIVOT_ROUNDINGS = 100.0
 
 
-def _shift_ladder(W: Any, shift: float, scale: float, is_sparse: bool) -> tuple[Any, float, float]:
+@overload
+def _shift_ladder(W: Any, shift: float, scale: float, is_sparse: bool) -> tuple[Any, float, float]: ...
+
+
+@overload
+def _shift_ladder(W: Any, shift: float, scale: float, is_sparse: bool,
+                  below: float) -> tuple[Any, float, float] | None: ...
+
+
+def _shift_ladder(W: Any, shift: float, scale: float, is_sparse: bool,
+                  below: float = np.inf) -> tuple[Any, float, float] | None:
     """Path 3 of :func:`convexify`: ``W + delta I`` for the first ``delta`` (from the last one, ``shift``, or
-    :data:`SHIFT_START`) that passes the Cholesky test (the last one tried when none does)."""
+    :data:`SHIFT_START`) that passes the Cholesky test (the last one tried when none does). With ``below`` finite,
+    only the shifts below it are tried, and None says that none of them passes."""
     eye = sp.identity(W.shape[0], format="csc") if is_sparse else np.eye(W.shape[0])
     delta = max(shift / WEIGHT_DECAY, SHIFT_START * scale)
     for _ in range(SHIFT_RUNGS):
+        if delta >= below:
+            return None
         B = _sorted(W + delta * eye, is_sparse)
         # (W_ii + delta is exact to eps (|W_ii| + delta): a smaller pivot may be a zero eigenvalue, which a delta
         # of a power of ten times max|W_ii| meets exactly where W's most negative eigenvalue is -max|W_ii|)
@@ -229,17 +242,31 @@ def _shift_ladder(W: Any, shift: float, scale: float, is_sparse: bool) -> tuple[
     return B, delta, 0.0
 
 
-#: The augmented-Lagrangian weight under an identity shift (:func:`shifted_augmented`), in units of the ladder's first
-#: weight: large enough that the shift need only cover the rows' null space, small enough to leave the matrix's
-#: conditioning to the shift (on the guidewire's 3-D program 1e3 took an arch step from 32 iterations to 7).
+#: The augmented-Lagrangian weight under an identity shift (:func:`shifted_augmented`) starts at this many times the
+#: augmented ladder's first weight: large enough that the shift need only cover the rows' null space, small enough
+#: to leave the matrix's conditioning to the shift (on the guidewire's 3-D program 1e3 took an arch step from 32
+#: iterations to 7).
 SHIFTED_WEIGHT = 1e3
+
+#: Weights past :data:`SHIFTED_WEIGHT` (each :data:`LADDER_GROWTH` times the last) that :func:`shifted_augmented`
+#: tries while a larger one lowers the shift.
+SHIFTED_WEIGHT_RUNGS = 6
 
 
 def shifted_augmented(W: Any, C: Any, shift: float) -> tuple[Any, float, float]:
     """``W + r C^T C + delta I`` for a ``W`` that is not positive definite on the null space of ``C`` (where
-    :func:`convexify` would shift ``W`` alone, by as much as ``W``'s most negative curvature across the rows):
-    ``r`` = :data:`SHIFTED_WEIGHT` times the augmented ladder's first weight and ``delta`` the first of the shift
-    ladder (from the last one, ``shift``) that passes the Cholesky test. Returns ``(B, delta, r)``."""
+    :func:`convexify` would shift ``W`` alone, by as much as ``W``'s most negative curvature across the rows).
+    Returns ``(B, delta, r)``.
+
+    ``r`` starts at :data:`SHIFTED_WEIGHT` times the augmented ladder's first weight and grows tenfold (up to
+    :data:`SHIFTED_WEIGHT_RUNGS` times) while the first ``delta`` of the shift ladder that passes the Cholesky test
+    falls (at the first weight from the last shift, ``shift``; at the others from the ladder's first rung):
+    ``W + r C^T C``'s lowest eigenvalue rises with ``r`` towards that of ``W`` on the null space of ``C``, the
+    reduced Hessian, which is all the shift must cover. A shift kept larger than that is what makes a saddle slow
+    to leave: the step along a direction of negative curvature ``-lambda`` is ``|g| / (delta - lambda)``, so with
+    ``delta`` the size of ``W``'s curvature across the rows (a J-tip about to roll over in a curved tube, pressed
+    against the wall: ``lambda`` of 0.1 on the rows' null space, 30 across them at the first weight) the iterates
+    crept 1e-5 a step for hundreds of iterations, where a shift near ``lambda`` leaves the saddle in tens."""
     is_sparse = sp.issparse(W)
     CtC = _gram(C, is_sparse)
     scale = max(1.0, float(np.abs(W.diagonal()).max()))
@@ -248,7 +275,17 @@ def shifted_augmented(W: Any, C: Any, shift: float) -> tuple[Any, float, float]:
         return _shift_ladder(W, shift, scale, is_sparse)
     r = SHIFTED_WEIGHT * AL_WEIGHT_START * scale / base
     B, delta, _ = _shift_ladder(_plus_scaled(W, r, CtC, is_sparse), shift, scale, is_sparse)
-    return B, delta, r
+    weight = r
+    for _ in range(SHIFTED_WEIGHT_RUNGS):
+        r *= LADDER_GROWTH
+        # (from the ladder's first rung, not the last shift: that one fades by WEIGHT_DECAY per iteration, and a
+        # shift larger than the last weight needed is what this ladder removes; only the shifts below the one found
+        # are tested, no smaller one passing at a smaller weight)
+        found = _shift_ladder(_plus_scaled(W, r, CtC, is_sparse), 0.0, scale, is_sparse, below=delta)
+        if found is None:
+            break
+        B, delta, weight = found[0], found[1], r
+    return B, delta, weight
 
 
 #: A test of :func:`_indefinite_first` within this relative distance of its threshold is left to the Cholesky test

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from typing import Any, overload
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -213,33 +213,25 @@ def _augmented_ladder(W: Any, CtC: Any, rho: float, rungs: int, scale: float,
 SHIFT_PIVOT_ROUNDINGS = 100.0
 
 
-@overload
-def _shift_ladder(W: Any, shift: float, scale: float, is_sparse: bool) -> tuple[Any, float, float]: ...
-
-
-@overload
-def _shift_ladder(W: Any, shift: float, scale: float, is_sparse: bool,
-                  below: float) -> tuple[Any, float, float] | None: ...
-
-
-def _shift_ladder(W: Any, shift: float, scale: float, is_sparse: bool,
-                  below: float = np.inf) -> tuple[Any, float, float] | None:
+def _shift_ladder(W: Any, shift: float, scale: float, is_sparse: bool) -> tuple[Any, float, float]:
     """Path 3 of :func:`convexify`: ``W + delta I`` for the first ``delta`` (from the last one, ``shift``, or
-    :data:`SHIFT_START`) that passes the Cholesky test (the last one tried when none does). With ``below`` finite,
-    only the shifts below it are tried, and None says that none of them passes."""
-    eye = sp.identity(W.shape[0], format="csc") if is_sparse else np.eye(W.shape[0])
+    :data:`SHIFT_START`) that passes the Cholesky test (the last one tried when none does)."""
     delta = max(shift / WEIGHT_DECAY, SHIFT_START * scale)
     for _ in range(SHIFT_RUNGS):
-        if delta >= below:
-            return None
-        B = _sorted(W + delta * eye, is_sparse)
-        # (W_ii + delta is exact to eps (|W_ii| + delta): a smaller pivot may be a zero eigenvalue, which a delta
-        # of a power of ten times max|W_ii| meets exactly where W's most negative eigenvalue is -max|W_ii|)
-        accepted = _accepted(B, is_sparse, SHIFT_PIVOT_ROUNDINGS * np.finfo(float).eps * (scale + delta))
+        B, accepted = _shifted(W, delta, scale, is_sparse)
         if accepted is not None:
             return accepted, delta, 0.0
         delta *= LADDER_GROWTH
     return B, delta, 0.0
+
+
+def _shifted(W: Any, delta: float, scale: float, is_sparse: bool) -> tuple[Any, Any | None]:
+    """``W + delta I``, and it again when it passes the Cholesky test of the shift ladder (None when not)."""
+    eye = sp.identity(W.shape[0], format="csc") if is_sparse else np.eye(W.shape[0])
+    B = _sorted(W + delta * eye, is_sparse)
+    # (W_ii + delta is exact to eps (|W_ii| + delta): a smaller pivot may be a zero eigenvalue, which a delta
+    # of a power of ten times max|W_ii| meets exactly where W's most negative eigenvalue is -max|W_ii|)
+    return B, _accepted(B, is_sparse, SHIFT_PIVOT_ROUNDINGS * np.finfo(float).eps * (scale + delta))
 
 
 #: The augmented-Lagrangian weight under an identity shift (:func:`shifted_augmented`) starts at this many times the
@@ -249,7 +241,7 @@ def _shift_ladder(W: Any, shift: float, scale: float, is_sparse: bool,
 SHIFTED_WEIGHT = 1e3
 
 #: Weights past :data:`SHIFTED_WEIGHT` (each :data:`LADDER_GROWTH` times the last) that :func:`shifted_augmented`
-#: tries while a larger one lowers the shift.
+#: tries for a smaller shift.
 SHIFTED_WEIGHT_RUNGS = 6
 
 
@@ -258,15 +250,16 @@ def shifted_augmented(W: Any, C: Any, shift: float) -> tuple[Any, float, float]:
     :func:`convexify` would shift ``W`` alone, by as much as ``W``'s most negative curvature across the rows).
     Returns ``(B, delta, r)``.
 
-    ``r`` starts at :data:`SHIFTED_WEIGHT` times the augmented ladder's first weight and grows tenfold (up to
-    :data:`SHIFTED_WEIGHT_RUNGS` times) while the first ``delta`` of the shift ladder that passes the Cholesky test
-    falls (at the first weight from the last shift, ``shift``; at the others from the ladder's first rung):
-    ``W + r C^T C``'s lowest eigenvalue rises with ``r`` towards that of ``W`` on the null space of ``C``, the
-    reduced Hessian, which is all the shift must cover. A shift kept larger than that is what makes a saddle slow
-    to leave: the step along a direction of negative curvature ``-lambda`` is ``|g| / (delta - lambda)``, so with
-    ``delta`` the size of ``W``'s curvature across the rows (a J-tip about to roll over in a curved tube, pressed
-    against the wall: ``lambda`` of 0.1 on the rows' null space, 30 across them at the first weight) the iterates
-    crept 1e-5 a step for hundreds of iterations, where a shift near ``lambda`` leaves the saddle in tens."""
+    ``r`` starts at :data:`SHIFTED_WEIGHT` times the augmented ladder's first weight, with the first ``delta`` of
+    the shift ladder (from the last one, ``shift``) that passes the Cholesky test; then it grows tenfold,
+    :data:`SHIFTED_WEIGHT_RUNGS` times, and at each weight the shift falls tenfold while the test still passes
+    (down to the ladder's first rung): ``W + r C^T C``'s lowest eigenvalue rises with ``r`` towards that of ``W``
+    on the null space of ``C``, the reduced Hessian, which is all the shift must cover. A shift kept larger than
+    that is what makes a saddle slow to leave: the step along a direction of negative curvature ``-lambda`` is
+    ``|g| / (delta - lambda)``, so with ``delta`` the size of ``W``'s curvature across the rows (a J-tip about to
+    roll over in a curved tube, pressed against the wall: ``lambda`` of 0.1 on the rows' null space, 30 across them
+    at the first weight) the iterates crept 1e-5 a step for hundreds of iterations, where a shift near ``lambda``
+    leaves the saddle in tens."""
     is_sparse = sp.issparse(W)
     CtC = _gram(C, is_sparse)
     scale = max(1.0, float(np.abs(W.diagonal()).max()))
@@ -278,13 +271,14 @@ def shifted_augmented(W: Any, C: Any, shift: float) -> tuple[Any, float, float]:
     weight = r
     for _ in range(SHIFTED_WEIGHT_RUNGS):
         r *= LADDER_GROWTH
-        # (from the ladder's first rung, not the last shift: that one fades by WEIGHT_DECAY per iteration, and a
-        # shift larger than the last weight needed is what this ladder removes; only the shifts below the one found
-        # are tested, no smaller one passing at a smaller weight)
-        found = _shift_ladder(_plus_scaled(W, r, CtC, is_sparse), 0.0, scale, is_sparse, below=delta)
-        if found is None:
-            break
-        B, delta, weight = found[0], found[1], r
+        A = _plus_scaled(W, r, CtC, is_sparse)
+        # (one test a weight while a tenth of the shift still fails; where it passes, tenfold smaller shifts while
+        # they pass too: the lowest eigenvalue rises with the weight)
+        while delta / LADDER_GROWTH >= SHIFT_START * scale:
+            accepted = _shifted(A, delta / LADDER_GROWTH, scale, is_sparse)[1]
+            if accepted is None:
+                break
+            B, delta, weight = accepted, delta / LADDER_GROWTH, r
     return B, delta, weight
 
 

@@ -82,20 +82,22 @@ def test_cold_solve_of_the_turned_j_wire_converges(bars):
 @pytest.mark.parametrize("bars", [25])
 def test_turned_j_wire_snaps_past_the_fold_and_turns_on(bars):
     """stEVE's J pushed 50 mm into the helix at 0°, then the clamp turned in 15° steps: between 45° and 60° the
-    branch followed ends (a fold; every warm start, halved steps included, crawled under an identity shift and the
-    insertion failed at 60°), the wire snaps to an equilibrium of lower energy, found from the built-in start, and
-    the turn goes on by warm starts; a full turn of the clamp gives the 0° shape's energy back."""
+    branch followed ends (a fold), and the wire snaps (the tip's roll jumps by more than 90° in one step) to an
+    equilibrium of lower energy, reached from the warm start like every other step (no cold re-solve: the shift
+    on the model covers the reduced Hessian's negative curvature only; 16 iterations, where the old shift crawled
+    and the cold start took 363); a full turn of the clamp gives the 0° shape's energy back."""
     scene = _scene(50.0, bars, SOFT, j=True)
     lengths = list(np.arange(2.0, 50.5, 2.0))
     turns = np.radians(np.arange(15.0, 361.0, 15.0))
     out = insert3d(scene, lengths + [50.0] * len(turns), [0.0] * len(lengths) + list(turns))
     assert out.complete, out.error
     steps = out.steps[len(lengths) - 1:]  # (0°, 15°, ..., 360°)
-    snapped = [i for i, s in enumerate(steps) if s.extras.get("cold")]
-    assert snapped, "no step needed the cold start"
-    for i in snapped:
-        assert steps[i].energy < steps[i - 1].energy  # (a snap releases energy)
-    assert sum(s.extras.get("step_iterations", 0) for s in steps) < 1500
+    assert not any(s.extras.get("cold") for s in steps)
+    jumps = np.diff([s.tip_roll for s in steps])
+    snap = int(np.argmax(np.abs(jumps))) + 1
+    assert jumps[snap - 1] > math.radians(90.0)
+    assert steps[snap].energy < steps[snap - 1].energy  # (a snap releases energy)
+    assert sum(s.extras.get("step_iterations", 0) for s in steps) < 300
     assert math.isclose(steps[-1].energy, steps[0].energy, rel_tol=1e-7)
     for s in steps:
         force, moment = s.balance()

@@ -142,9 +142,10 @@ def advance(scene: Scene3D, previous: Solution3D, length: float, turn: float, de
     sol = _advance(scene, previous, length, turn, density, rest, 0, budget)
     spent = int(options.get("max_iter", STEP_BUDGET)) - budget[0]
     if not sol.success:
-        # (a fold: the branch followed ends, no short step reaches the next equilibrium, and the warm starts crawl
-        # along the negative curvature under an identity shift of 100-900, |d| ~ 1e-4; the wire snaps, and the
-        # built-in start with its bounded first steps reaches the equilibrium it snaps to)
+        # (a safety net: at a fold, where the branch followed ends and the wire snaps, the warm start leaves the
+        # saddle along its negative curvature, the model's shift covering only the reduced Hessian's; while that
+        # shift was the size of the curvature across the rows, 100-900, the warm starts crawled at |d| ~ 1e-5 and
+        # this solve found the equilibrium the wire snaps to)
         cold = solve3d(scene_at(scene, length, turn, density), max_iter=int(options.get("max_iter", STEP_BUDGET)),
                        **rest)
         spent += cold.iterations

@@ -53,8 +53,10 @@ QPs (helix, 50 mm, 25 bars: 386-587 iterations, 12-28 s; 70 mm at 50 bars: 401-4
 EXTEND_SHIFTED_STEPS = False
 """The engine's extension of shifted steps (``sqp.minimize(extend_shifted_steps=...)``) is off for the 3-D program:
 turning the J wire through a full turn in the helix (115 steps, the snap at step 99) took 75 s without it and did not
-end within 7 min with it; the first 95 steps and every step of the S-bend and the arch took the same iterations
-either way."""
+end within 7 min with it while the shift on top of the augmented-Lagrangian term was the size of the curvature
+across the rows; since it covers the reduced Hessian only (:func:`sqp.hessian.shifted_augmented`) both take the
+same iterations there (488 for the 115 steps, 23 at the snap), as on every step of the straight wire, the S-bend and
+the arch."""
 
 SPARSE_FALLBACKS = ("clarabel",)
 

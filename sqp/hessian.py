@@ -89,9 +89,12 @@ def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0,
        constant, so the QP step is the exact Newton–SQP step whenever ``W`` is positive definite on the null space
        of ``C`` (second-order sufficiency), while ``W`` alone may be indefinite — a wire under compression is.
        At most ``rungs`` weights are tried (default :data:`AL_WEIGHT_RUNGS`).
-       ``rho`` starts at a quarter of the last value that worked, or ``1e-3 max|W_ii| / max|C^T C_ii|``, and grows
-       tenfold (when sparse, where every test is a sparse factorisation, the last weight is kept rather than
-       quartered); ``W`` is not tested alone again once it needed the term. Used when
+       ``rho`` starts at a quarter of the last value that worked (when sparse, not below the first weight
+       ``1e-3 max|W_ii| / max|C^T C_ii|``), or at that first weight, and grows tenfold; ``W`` is not tested alone
+       again once it needed the term. (A sparse weight kept rather than quartered ratcheted up to a million times
+       the first on the guidewire's vessels at 1 600-3 200 bars, where the QP backends then failed on the
+       ill-conditioned model: two 100-iteration PIQP runs and Clarabel's before the elastic QP, 2-10 s a solve.)
+       Used when
        ``W`` is dense or small (up to :data:`DENSE_LIMIT` variables a sparse ``W`` is made dense
        for it), and for a large sparse ``W`` when ``C`` is sparse and ``C^T C`` stays sparse (at most
        :data:`SPARSE_GRAM_DENSITY` nonzeros per variable; tested by the sparse LU below, O(n) when banded).
@@ -197,7 +200,7 @@ def _augmented_ladder(W: Any, CtC: Any, rho: float, rungs: int, scale: float,
     if base <= 0.0:
         return None
     r0 = AL_WEIGHT_START * scale / base
-    r = r0 if rho <= 0.0 else max(rho, r0) if is_sparse else rho / WEIGHT_DECAY
+    r = r0 if rho <= 0.0 else max(rho / WEIGHT_DECAY, r0) if is_sparse else rho / WEIGHT_DECAY
     r *= LADDER_GROWTH**rungs  # (the same numbers as growing it tenfold: rungs is 0 or 1)
     for _ in range(max_rungs - rungs):
         B = _accepted(_sorted(_plus_scaled(W, r, CtC, is_sparse), is_sparse), is_sparse)
@@ -244,6 +247,12 @@ SHIFTED_WEIGHT = 1e3
 #: tries for a smaller shift.
 SHIFTED_WEIGHT_RUNGS = 6
 
+#: Under a larger weight :func:`shifted_augmented` lowers the shift no further than this fraction of the matrix's
+#: largest diagonal entry, ``max|W_ii| + r max|C^T C_ii|``: a smaller one passes the Cholesky test but leaves a model
+#: whose condition exceeds ~1e9, on which the QP backends ran out of iterations (the guidewire's S-bend at 1 600
+#: bars: weight 3.7e5, shift 2.5e-7 of ``max|W_ii|``, PIQP and Clarabel failing on most QPs that followed).
+SHIFT_CONDITION = 1e-9
+
 
 def shifted_augmented(W: Any, C: Any, shift: float) -> tuple[Any, float, float]:
     """``W + r C^T C + delta I`` for a ``W`` that is not positive definite on the null space of ``C`` (where
@@ -253,7 +262,8 @@ def shifted_augmented(W: Any, C: Any, shift: float) -> tuple[Any, float, float]:
     ``r`` starts at :data:`SHIFTED_WEIGHT` times the augmented ladder's first weight, with the first ``delta`` of
     the shift ladder (from the last one, ``shift``) that passes the Cholesky test; then it grows tenfold,
     :data:`SHIFTED_WEIGHT_RUNGS` times, and at each weight the shift falls tenfold while the test still passes
-    (down to the ladder's first rung): ``W + r C^T C``'s lowest eigenvalue rises with ``r`` towards that of ``W``
+    (down to the ladder's first rung, and to :data:`SHIFT_CONDITION` of the matrix's diagonal): ``W + r C^T C``'s
+    lowest eigenvalue rises with ``r`` towards that of ``W``
     on the null space of ``C``, the reduced Hessian, which is all the shift must cover. A shift kept larger than
     that is what makes a saddle slow to leave: the step along a direction of negative curvature ``-lambda`` is
     ``|g| / (delta - lambda)``, so with ``delta`` the size of ``W``'s curvature across the rows (a J-tip about to
@@ -274,7 +284,7 @@ def shifted_augmented(W: Any, C: Any, shift: float) -> tuple[Any, float, float]:
         A = _plus_scaled(W, r, CtC, is_sparse)
         # (one test a weight while a tenth of the shift still fails; where it passes, tenfold smaller shifts while
         # they pass too: the lowest eigenvalue rises with the weight)
-        while delta / LADDER_GROWTH >= SHIFT_START * scale:
+        while delta / LADDER_GROWTH >= max(SHIFT_START * scale, SHIFT_CONDITION * (scale + r * base)):
             accepted = _shifted(A, delta / LADDER_GROWTH, scale, is_sparse)[1]
             if accepted is None:
                 break

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from sqp.hessian import AL_WEIGHT_START, LADDER_GROWTH, SHIFT_START, SHIFTED_WEIGHT, shifted_augmented
+from sqp.hessian import AL_WEIGHT_START, LADDER_GROWTH, SHIFT_CONDITION, SHIFT_START, SHIFTED_WEIGHT, shifted_augmented
 
 
 def _saddle(n: int, m: int, lam: float, across: float, seed: int) -> tuple[np.ndarray, np.ndarray]:
@@ -30,20 +30,26 @@ def _saddle(n: int, m: int, lam: float, across: float, seed: int) -> tuple[np.nd
 
 
 @pytest.mark.parametrize("lam", [1e-3, 0.1, 1.0])
-@pytest.mark.parametrize("across", [30.0, 1e3])
+@pytest.mark.parametrize("across", [30.0, 1e3, 1e5])
 @pytest.mark.parametrize("sparse", [False, True])
 @pytest.mark.parametrize("seed", [0, 1])
 def test_the_shift_covers_the_reduced_hessian_not_the_curvature_across_the_rows(lam, across, sparse, seed):
     """``B = W + r C^T C + delta I`` is positive definite and its shift is within one rung of the ladder
     (``LADDER_GROWTH``) of the reduced Hessian's ``lam``, whatever the curvature across the rows (the first weight
-    alone needed a shift of the order of ``across``)."""
+    alone needed a shift of the order of ``across``), unless a shift that small would leave ``B`` worse conditioned
+    than ``1 / SHIFT_CONDITION``: it is then within one rung of ``SHIFT_CONDITION (max|W_ii| + r max|C^T C_ii|)``
+    and not below it."""
     W, C = _saddle(12, 5, lam, across, seed)
     Wm, Cm = (sp.csc_matrix(W), sp.csr_matrix(C)) if sparse else (W, C)
     B, delta, r = shifted_augmented(Wm, Cm, 0.0)
     dense = B.toarray() if sp.issparse(B) else np.asarray(B)
     np.testing.assert_allclose(dense, W + r * C.T @ C + delta * np.eye(12), rtol=1e-12, atol=1e-9 * r)
     assert np.linalg.eigvalsh(dense)[0] > 0.0
-    assert lam < delta <= LADDER_GROWTH * max(lam, SHIFT_START * np.abs(W.diagonal()).max()) * (1.0 + 1e-12)
+    scale = max(1.0, float(np.abs(W.diagonal()).max()))
+    floor = SHIFT_CONDITION * (scale + r * float(np.max(np.diag(C.T @ C))))
+    assert lam < delta <= LADDER_GROWTH * max(lam, SHIFT_START * scale, floor) * (1.0 + 1e-12)
+    assert delta >= floor * (1.0 - 1e-12) or r == pytest.approx(SHIFTED_WEIGHT * AL_WEIGHT_START * scale / float(
+        np.max(np.diag(C.T @ C))), rel=1e-14)
 
 
 def test_where_the_first_weight_needs_the_first_rung_no_larger_weight_is_taken():

@@ -50,7 +50,8 @@ def _alive(pid: int) -> bool:
 def test_a_signalled_batch_leaves_no_process_and_resumes(tmp_path, sig):
     scenes = tmp_path / "scenes"
     scenes.mkdir()
-    count = 60  # (signalled at the first record written: the rest is still to do on any machine)
+    count = 240  # (signalled at the first record written: the rest, seconds of work, is still to do on any machine;
+    # with 60 scenes a loaded machine once finished the batch before this process saw its first record)
     for i in range(count):
         (scenes / f"bend{i:03d}.toml").write_text(BEND.read_text())
     out = tmp_path / "out.jsonl"

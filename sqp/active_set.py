@@ -7,8 +7,9 @@ guessed active is the KKT point of the equality QP on ``E`` and ``G_A`` (one spa
 sufficient: it is *the* solution (unique in ``d``), the one an interior-point backend approaches to its tolerance.
 Otherwise the guess is corrected as the primal-dual active-set method does (Hintermüller, Ito & Kunisch, 2002: rows
 with a negative multiplier leave, violated rows join) for at most :data:`MAX_GUESSES` solves, and then the caller
-asks its backends; when every backend fails, for up to :data:`RESCUE_GUESSES` more. The guess comes from the last QP's multipliers (or the caller's starting ones), so an SQP near a
-solution, or warm-started from a neighbouring problem's answer, usually needs one solve.
+asks its backends (when every backend fails, the caller corrects it for up to :data:`RESCUE_GUESSES` solves). The
+guess comes from the last QP's multipliers (or the caller's starting ones), so an SQP near a solution, or
+warm-started from a neighbouring problem's answer, usually needs one solve.
 
 The KKT matrix ``[[B, C^T], [C, 0]]`` (``C = [E; G_A]``) is ordered with every row right after the last variable it
 involves (:func:`interleaved_order`): for a banded ``B`` and rows local in the variables (a discretised rod: each row

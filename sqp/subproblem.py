@@ -32,6 +32,10 @@ from sqp.structured import equality_kkt, needs_convexification, range_space_kkt
 
 Array = NDArray[np.float64]
 
+#: A backend's answer to a QP with a guessed active set is polished on the rows whose multiplier exceeds this times
+#: ``max(1, max z)`` (an interior point leaves ~1e-11 on the rows it does not hold).
+POLISH_HELD = 1e-9
+
 
 @dataclass(frozen=True)
 class LinearisedRows:
@@ -265,6 +269,19 @@ def _solve_plain(B: Any, g: Array, nonlinear: LinearisedRows, linear: Linearised
     y = np.zeros(0) if sol.y is None else np.asarray(sol.y, dtype=float).ravel()
     z = np.zeros(0) if sol.z is None else np.asarray(sol.z, dtype=float).ravel()
     zb = -np.asarray(sol.z_box, dtype=float) if (has_box and sol.z_box is not None) else np.zeros(n)
+    if guess and z.size:
+        # polished: the rows the backend's answer holds, solved exactly (banded KKT solves, the rows it left tiny
+        # multipliers on dropped as any guess's are); an interior point's multipliers carry its own tolerance,
+        # which an SQP near its solution cannot get its KKT residual below (a wire pushed straight out of a branch's
+        # open end: |KKT| stuck at ~1e-6 for 30 iterations, then the dense program); kept only when it passes the
+        # same checks as any guess (else the backend's answer stands)
+        held = z > POLISH_HELD * max(1.0, float(np.max(z)))
+        polished = guessed_qp(B, g, E, e, G, h, held, scale, MAX_GUESSES)
+        if polished is not None:
+            d, y, z = polished
+            return QPStep(d=d, lam_nl=_row_multipliers(nonlinear.rows, y, z, where[0]),
+                          lam_lin=_row_multipliers(linear.rows, y, z, where[1]), z=np.zeros(n), found=True,
+                          elastic=False, slack=0.0, status="polished")
     return QPStep(
         d=sol.x, lam_nl=_row_multipliers(nonlinear.rows, y, z, where[0]),
         lam_lin=_row_multipliers(linear.rows, y, z, where[1]), z=zb, found=True, elastic=False, slack=0.0,

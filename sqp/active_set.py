@@ -7,8 +7,9 @@ guessed active is the KKT point of the equality QP on ``E`` and ``G_A`` (one spa
 sufficient: it is *the* solution (unique in ``d``), the one an interior-point backend approaches to its tolerance.
 Otherwise the guess is corrected as the primal-dual active-set method does (Hintermüller, Ito & Kunisch, 2002: rows
 with a negative multiplier leave, violated rows join) for at most :data:`MAX_GUESSES` solves, and then the caller
-asks its backends. The guess comes from the last QP's multipliers (or the caller's starting ones), so an SQP near a
-solution, or warm-started from a neighbouring problem's answer, usually needs one solve.
+asks its backends (when every backend fails, the caller corrects it for up to :data:`RESCUE_GUESSES` solves). The
+guess comes from the last QP's multipliers (or the caller's starting ones), so an SQP near a solution, or
+warm-started from a neighbouring problem's answer, usually needs one solve.
 
 The KKT matrix ``[[B, C^T], [C, 0]]`` (``C = [E; G_A]``) is ordered with every row right after the last variable it
 involves (:func:`interleaved_order`): for a banded ``B`` and rows local in the variables (a discretised rod: each row
@@ -39,6 +40,14 @@ MAX_GUESSES = 3
 #: warm-started solve moves the most (on the guidewire's 3-D insertion steps the corrections of that guess wandered
 #: over dozens of rows and never settled), so one solve is tried before the backends.
 FIRST_GUESSES = 1
+
+#: Solves of corrected guesses made when every backend has failed the QP (before its elastic form is solved): the
+#: backends' failures are numerical (an augmented-Lagrangian model Hessian with a condition number ~1e11 on the
+#: guidewire's compressed vessel programs: PIQP and Clarabel stop short where DAQP and quadprog solve the same QP),
+#: while the corrections solve the KKT system directly (4 solves there). An answer is checked like any other, so a
+#: correction that wanders only costs these solves (each O(n) on a banded KKT matrix, O(n² k) by the range-space
+#: method for a dense factored model with k rows guessed).
+RESCUE_GUESSES = 25
 
 #: Widest band (``max |i - j|`` over the KKT matrix's entries in :func:`interleaved_order`) solved here.
 MAX_KKT_BANDWIDTH = 48

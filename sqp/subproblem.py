@@ -24,13 +24,17 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from sqp.active_set import FIRST_GUESSES, MAX_GUESSES, corrected_guess, guessed_qp
+from sqp.active_set import FIRST_GUESSES, MAX_GUESSES, RESCUE_GUESSES, corrected_guess, guessed_qp
 from sqp.kkt import inf_norm
 from sqp.problem import Rows
 from sqp.qp_call import QP_RESIDUAL_TOL, Backends, solve_qp
 from sqp.structured import equality_kkt, needs_convexification, range_space_kkt
 
 Array = NDArray[np.float64]
+
+#: A backend's answer to a QP with a guessed active set is polished on the rows whose multiplier exceeds this times
+#: ``max(1, max z)`` (an interior point leaves ~1e-11 on the rows it does not hold).
+POLISH_HELD = 1e-9
 
 
 @dataclass(frozen=True)
@@ -233,26 +237,51 @@ def _solve_plain(B: Any, g: Array, nonlinear: LinearisedRows, linear: Linearised
                           found=True, elastic=False, slack=0.0, status="kkt")
     if needs_convexification(B):
         return _failed(n, nonlinear, linear, "indefinite")
-    if guess or (factored and not sp.issparse(E) and not sp.issparse(G)):
+    guessing = guess or (factored and not sp.issparse(E) and not sp.issparse(G))
+
+    def on_guess(solves: int) -> QPStep | None:
+        """The QP solved on the guessed active set corrected for at most ``solves`` solves, or None."""
+        assert active is not None  # (guessing)
+        found = (guessed_qp(B, g, E, e, G, h, active, scale, solves) if guess
+                 else _factored_guess(B, g, E, e, G, h, active, scale, solves))
+        if found is None:
+            return None
+        d, y, z = found
+        return QPStep(d=d, lam_nl=_row_multipliers(nonlinear.rows, y, z, where[0]),
+                      lam_lin=_row_multipliers(linear.rows, y, z, where[1]), z=np.zeros(n), found=True,
+                      elastic=False, slack=0.0, status="active set")
+
+    if guessing:
         # (with no inequality rows: the equality QP by one banded KKT solve, or the range-space one)
         # (the first QP's guess, from starting multipliers, is tried once on a banded solve, whose corrections
         # wandered on the 3-D program; a range-space correction costs O(n² k), a fraction of DAQP's set-up, and
         # the first QP of a warm insertion step usually needs one: 61 of 166 QPs to DAQP on the bend, 16 so)
-        solves = FIRST_GUESSES if first and guess else MAX_GUESSES
-        found = (guessed_qp(B, g, E, e, G, h, active, scale, solves) if guess
-                 else _factored_guess(B, g, E, e, G, h, active, scale, solves))
-        if found is not None:
-            d, y, z = found
-            return QPStep(d=d, lam_nl=_row_multipliers(nonlinear.rows, y, z, where[0]),
-                          lam_lin=_row_multipliers(linear.rows, y, z, where[1]), z=np.zeros(n), found=True,
-                          elastic=False, slack=0.0, status="active set")
+        step = on_guess(FIRST_GUESSES if first and guess else MAX_GUESSES)
+        if step is not None:
+            return step
     sol, used = solve_qp(backends, B, g, G, h, E, e, box_lo if has_box else None, box_hi if has_box else None,
                        initvals, scale)
     if sol is None:
-        return _failed(n, nonlinear, linear, used)
+        # every backend failed (a certified infeasibility aside): the guess corrected further, a direct KKT solve
+        # each, is checked like any answer, and spares the elastic QP a consistent linearisation
+        rescued = on_guess(RESCUE_GUESSES) if guessing and used != "QP infeasible" else None
+        return _failed(n, nonlinear, linear, used) if rescued is None else rescued
     y = np.zeros(0) if sol.y is None else np.asarray(sol.y, dtype=float).ravel()
     z = np.zeros(0) if sol.z is None else np.asarray(sol.z, dtype=float).ravel()
     zb = -np.asarray(sol.z_box, dtype=float) if (has_box and sol.z_box is not None) else np.zeros(n)
+    if guess and z.size:
+        # polished: the rows the backend's answer holds, solved exactly (banded KKT solves, the rows it left tiny
+        # multipliers on dropped as any guess's are); an interior point's multipliers carry its own tolerance,
+        # which an SQP near its solution cannot get its KKT residual below (a wire pushed straight out of a branch's
+        # open end: |KKT| stuck at ~1e-6 for 30 iterations, then the dense program); kept only when it passes the
+        # same checks as any guess (else the backend's answer stands)
+        held = z > POLISH_HELD * max(1.0, float(np.max(z)))
+        polished = guessed_qp(B, g, E, e, G, h, held, scale, MAX_GUESSES)
+        if polished is not None:
+            d, y, z = polished
+            return QPStep(d=d, lam_nl=_row_multipliers(nonlinear.rows, y, z, where[0]),
+                          lam_lin=_row_multipliers(linear.rows, y, z, where[1]), z=np.zeros(n), found=True,
+                          elastic=False, slack=0.0, status="polished")
     return QPStep(
         d=sol.x, lam_nl=_row_multipliers(nonlinear.rows, y, z, where[0]),
         lam_lin=_row_multipliers(linear.rows, y, z, where[1]), z=zb, found=True, elastic=False, slack=0.0,

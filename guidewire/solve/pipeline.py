@@ -46,6 +46,12 @@ FALLBACK = "damped BFGS"
 #: iteration linear), where the reduced program takes 14-20.
 FULL_VESSEL_ITER = 30
 
+#: Iterations the dense program of bar angles may take over all its rounds when it stands in for a failed full-space
+#: solve of a vessel scene (and again for the damped-BFGS retry after it): above :data:`FULL_VESSEL_ITER`'s scenes'
+#: sizes an iteration there costs O(n³) (0.2 s at 700 bars, the S-bend's insertion at 12 bars/mm, which converges
+#: there in 10-24), so the engine's 500 a round would make a failing step last many minutes instead of failing.
+DENSE_FALLBACK_ITER = 100
+
 #: BLAS threads while solving: the matrices are small (≤ 300 variables dense; the full space is sparse), where a
 #: second BLAS thread only adds synchronisation (on Table 1, θ_B = π/4, 100 bars, on a 2-core machine under load:
 #: 47.7 ms with OpenBLAS's default 2 threads, 7.2 ms with 1). The caller's setting is restored after.
@@ -79,17 +85,18 @@ def _solve_in(scene: Scene, options: SolveOptions, layout: str, minimize_options
     form = formulate(scene, layout=layout, scheme=options.scheme, bars=options.bars,
                      initial_angles=options.initial_angles, initial_nodes=options.initial_nodes,
                      wall_nodes="near" if layout == "reduced" else None, reuse=options.reuse)
+    limits = [b for b in (budget, options.round_iterations) if b is not None]
     return rounds(form, options.hessian, start_multipliers(form, options.multipliers0), minimize_options, runs,
-                  options.round_iterations)
+                  min(limits) if limits else None)
 
 
 def solve_once(scene: Scene, options: SolveOptions, start: float) -> Solution:
     """One start: formulate, minimize through the working-set rounds, and when the exact Hessian stalls
     (:data:`FALLBACK_STATUSES`) solve the reduced program again from the same start with damped BFGS (at most
     ``min(max_iter, max(FALLBACK_MIN_ITER, max_iter // 5))`` iterations). A vessel scene in the full space by the
-    automatic choice gets :data:`FULL_VESSEL_ITER` iterations a round there, then the reduced program; neither
-    reduced retry is made when the dense program does not fit in memory (the message says so). ``start`` is when
-    the clock started."""
+    automatic choice gets :data:`FULL_VESSEL_ITER` iterations a round there, then the reduced program, with
+    :data:`DENSE_FALLBACK_ITER` iterations over its rounds (its damped-BFGS retry too); neither reduced retry is made
+    when the dense program does not fit in memory (the message says so). ``start`` is when the clock started."""
     n_bars = scene.wire.bars if options.bars is None else options.bars
     layout = options.layout
     if layout == "auto":
@@ -101,8 +108,9 @@ def solve_once(scene: Scene, options: SolveOptions, start: float) -> Solution:
         options.max_iter, FULL_VESSEL_ITER)} if tried else minimize_options, runs)
     failed = not res.success
     dense = not failed or scene.vessel is None or fits_memory(form.model.n, "reduced")
+    fallback_budget = DENSE_FALLBACK_ITER if tried and failed else None
     if tried and failed and dense:
-        form, res, settled = _solve_in(scene, options, "reduced", minimize_options, runs)
+        form, res, settled = _solve_in(scene, options, "reduced", minimize_options, runs, fallback_budget)
     answer, fallback, message = form, None, None
     if options.hessian == "exact" and res.status in FALLBACK_STATUSES and not dense:
         message = (f"{res.message} (no {FALLBACK} retry: the dense program of bar angles needs about "
@@ -115,7 +123,7 @@ def solve_once(scene: Scene, options: SolveOptions, start: float) -> Solution:
         max_iter = options.max_iter
         budget = {**minimize_options, "max_iter": min(max_iter, max(FALLBACK_MIN_ITER, max_iter // 5))}
         retry = formulate(form.scene, layout="reduced", initial_angles=form.model.x0, wall_nodes="near", check=False)
-        form_q, res_q, settled_q = rounds(retry, "bfgs", None, budget, runs)
+        form_q, res_q, settled_q = rounds(retry, "bfgs", None, budget, runs, fallback_budget)
         if res_q.success:
             answer, res, fallback, settled = form_q, res_q, FALLBACK, settled_q
             message = f"{res_q.message} ({FALLBACK}; the exact-Hessian run ended {stalled})"

@@ -111,3 +111,62 @@ def test_minimize_with_the_guess_matches_without_on_a_sparse_problem():
     assert any(rec.qp_status == "active set" for rec in guessed.history)
     np.testing.assert_allclose(guessed.x, plain.x, atol=1e-7)
     assert guessed.fun == pytest.approx(plain.fun, rel=1e-10)
+
+
+
+def test_a_qp_every_backend_fails_is_solved_by_further_corrections_of_its_guess():
+    """When every backend fails a QP that has a guess (simulated by a backend stopped after one iteration, as PIQP and
+    Clarabel stop short on an ill-conditioned augmented-Lagrangian model), the guess is corrected further
+    (:data:`sqp.active_set.RESCUE_GUESSES` solves) and its checked answer is the QP's solution, not a failure that
+    sends the iteration to the elastic QP. Over bound-constrained chain QPs guessed with every row's state flipped
+    (some need more corrections than :data:`~sqp.active_set.MAX_GUESSES`); with nothing guessed the QP still fails."""
+    from sqp.active_set import MAX_GUESSES
+    from sqp.problem import Rows
+    from sqp.subproblem import LinearisedRows, solve_subproblem
+
+    stopped = [("piqp", {"max_iter": 1})]
+    beyond = 0
+    for n, seed in [(80, 0), (200, 0), (200, 1), (200, 4), (200, 5)]:
+        P, q, _, _, G, h = _chain_qp(n, seed)
+        ref = qpsolvers.solve_problem(qpsolvers.Problem(P.toarray(), q, G.toarray(), h), solver="quadprog")
+        guess = ~(ref.z > 1e-9)
+        no_rows = sp.csr_matrix((0, n))
+        beyond += guessed_qp(P, q, no_rows, np.zeros(0), G, h, guess, 1.0, MAX_GUESSES) is None
+        lb = np.full(n, -np.inf)
+        linear = LinearisedRows(M=sp.csr_matrix(G), lo=lb, hi=h, rows=Rows.from_bounds(lb, h))
+        none = np.zeros(0)
+        nonlinear = LinearisedRows(M=no_rows, lo=none, hi=none, rows=Rows.from_bounds(none, none))
+        box = (np.full(n, -np.inf), np.full(n, np.inf))
+        qp = solve_subproblem(P, q, nonlinear, linear, *box, backends=stopped, active=guess)
+        assert qp.found and qp.status == "active set" and not qp.elastic
+        np.testing.assert_allclose(qp.d, ref.x, atol=1e-8)
+        assert not solve_subproblem(P, q, nonlinear, linear, *box, backends=stopped).found
+    assert beyond >= 2
+
+
+def test_a_backends_answer_to_a_guessed_qp_is_polished_to_the_kkt_point_of_the_rows_it_holds():
+    """A QP with a guess that the guess does not solve goes to the backend; its answer is then solved again exactly
+    on the rows its multipliers hold (one banded KKT solve): stationarity and complementarity to rounding (an interior
+    point leaves its own tolerance in them, which an SQP's KKT test near a solution cannot get below), the same
+    step as a dense active-set backend's, over bound-constrained chain QPs of several sizes."""
+    from sqp.problem import Rows
+    from sqp.subproblem import LinearisedRows, solve_subproblem
+
+    for n, seed in [(60, 0), (80, 1), (200, 2), (200, 3)]:
+        P, q, _, _, G, h = _chain_qp(n, seed)
+        ref = qpsolvers.solve_problem(qpsolvers.Problem(P.toarray(), q, G.toarray(), h), solver="quadprog")
+        guess = np.zeros(n, dtype=bool)
+        no_rows = sp.csr_matrix((0, n))
+        assert guessed_qp(P, q, no_rows, np.zeros(0), G, h, guess, 1.0, 1) is None  # the guess alone fails
+        lb = np.full(n, -np.inf)
+        linear = LinearisedRows(M=sp.csr_matrix(G), lo=lb, hi=h, rows=Rows.from_bounds(lb, h))
+        none = np.zeros(0)
+        nonlinear = LinearisedRows(M=no_rows, lo=none, hi=none, rows=Rows.from_bounds(none, none))
+        box = (np.full(n, -np.inf), np.full(n, np.inf))
+        qp = solve_subproblem(P, q, nonlinear, linear, *box, backends=[("piqp", {})], active=guess, first=True)
+        assert qp.found and qp.status == "polished"
+        z = -qp.lam_lin  # (the engine's sign: a held upper side has a negative multiplier)
+        assert np.all(z >= 0.0)
+        assert np.max(np.abs(P @ qp.d + q + G.T @ z)) <= 1e-12
+        assert np.max(np.abs(z * (G @ qp.d - h))) <= 1e-12 and np.max(G @ qp.d - h) <= 1e-12
+        np.testing.assert_allclose(qp.d, ref.x, atol=1e-10)

@@ -45,7 +45,7 @@ AUTO_QP_SOLVER = "auto"
 
 QP_SOLVER_HELP = (
     "QP backend: 'auto' (default) picks DAQP up to 300 variables, PIQP for larger programs whose rows are all "
-    "sparse, Clarabel for larger programs with dense rows; or an installed qpsolvers backend: {}"
+    "sparse, DAQP again for larger programs with dense rows; or an installed qpsolvers backend: {}"
 )
 
 

@@ -14,6 +14,8 @@ import sqp
 from guidewire.app import cli, reproduction
 from guidewire.scene.paper import paper_scenes, scene_path
 from sqp import installed_solvers
+from sqp.backends import auto_choice
+from sqp.hessian import DENSE_LIMIT
 
 REQUIRED = {"success", "status", "message", "energy", "nodes", "s", "tangent_angles", "bending_stress_mpa",
             "contact_reactions", "iterations", "solve_time_s", "max_violation"}
@@ -182,7 +184,11 @@ def test_qp_solver_help_describes_the_automatic_choice(capsys, command):
     assert stop.value.code == 0
     text = " ".join(capsys.readouterr().out.split())
     assert "'auto' (default) picks DAQP up to 300 variables, PIQP for larger programs whose rows are all sparse, " \
-           "Clarabel for larger programs with dense rows" in text
+           "DAQP again for larger programs with dense rows" in text
+    # (the text is the engine's rule: the three choices it names are the ones sqp makes)
+    choices = [auto_choice(n, sparse, ["daqp", "piqp", "clarabel"])[0] for n, sparse in
+               ((DENSE_LIMIT, True), (DENSE_LIMIT + 1, True), (DENSE_LIMIT + 1, False))]
+    assert choices == ["daqp", "piqp", "daqp"]
     assert all(name in text for name in installed_solvers())
 
 

@@ -94,3 +94,36 @@ def test_a_large_program_falls_back_to_sparse_backends_only(n, sparse):
     assert not large or all(name not in DENSE_BACKENDS for name, _ in auto.backends)
     assert sqp.Options(qp_fallbacks=("quadprog",)).for_problem(problem).qp_fallbacks == ("quadprog",)
     assert sqp.Options(qp_solver="piqp").for_problem(problem).qp_fallbacks == DEFAULT_QP_FALLBACKS
+
+
+@pytest.mark.parametrize("n", [40, 120])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_an_interior_point_run_out_of_iterations_is_not_retried_looser(monkeypatch, n, seed):
+    """PIQP stopped at its iteration limit: the next backend is asked at once (its looser retry would follow the
+    same iterates), and that backend's answer is the QP's; a PIQP failure of another kind keeps its retry."""
+    from sqp import qp_call
+
+    rng = np.random.default_rng(seed)
+    M = rng.standard_normal((n, n))
+    P = sp.csc_matrix(M @ M.T + n * np.eye(n))
+    q = rng.standard_normal(n)
+    G = sp.csc_matrix(rng.standard_normal((n // 2, n)))
+    h = np.abs(rng.standard_normal(n // 2))
+    calls = []
+    solve = qp_call._backends.solve_problem
+
+    def counted(problem, solver, initvals=None, **options):
+        calls.append(solver)
+        return solve(problem, solver=solver, initvals=initvals, **options)
+
+    monkeypatch.setattr(qp_call._backends, "solve_problem", counted)
+    E, e = sp.csc_matrix((0, n)), np.zeros(0)
+    sol, used = qp_call.solve_qp([("piqp", {"max_iter": 1}), ("clarabel", {})], P, q, G, h, E, e, None, None,
+                                 None, 1.0)
+    assert calls == ["piqp", "clarabel"] and used == "clarabel"
+    reference = qp_call.solve_qp([("clarabel", {})], P, q, G, h, E, e, None, None, None, 1.0)[0]
+    np.testing.assert_allclose(sol.x, reference.x, rtol=0, atol=1e-9 * max(1.0, float(np.abs(reference.x).max())))
+    calls.clear()
+    monkeypatch.setattr(qp_call, "_ran_out", lambda solver, sol: False)
+    qp_call.solve_qp([("piqp", {"max_iter": 1}), ("clarabel", {})], P, q, G, h, E, e, None, None, None, 1.0)
+    assert calls == ["piqp", "piqp", "clarabel"]

@@ -259,13 +259,19 @@ def _solve_plain(B: Any, g: Array, nonlinear: LinearisedRows, linear: Linearised
         step = on_guess(FIRST_GUESSES if first and guess else MAX_GUESSES)
         if step is not None:
             return step
-    sol, used = solve_qp(backends, B, g, G, h, E, e, box_lo if has_box else None, box_hi if has_box else None,
-                       initvals, scale)
+    lo, hi = (box_lo, box_hi) if has_box else (None, None)
+    sol, used = solve_qp(backends[:1], B, g, G, h, E, e, lo, hi, initvals, scale)
+    if sol is None and used != "QP infeasible":
+        # the first backend failed (a certified infeasibility aside): the guess corrected further, a direct KKT
+        # solve each, is checked like any answer (the QP's solution is unique: the next backend's answer would be
+        # the same), and spares the elastic QP a consistent linearisation; then the other backends
+        rescued = on_guess(RESCUE_GUESSES) if guessing else None
+        if rescued is not None:
+            return rescued
+        if len(backends) > 1:
+            sol, used = solve_qp(backends[1:], B, g, G, h, E, e, lo, hi, initvals, scale)
     if sol is None:
-        # every backend failed (a certified infeasibility aside): the guess corrected further, a direct KKT solve
-        # each, is checked like any answer, and spares the elastic QP a consistent linearisation
-        rescued = on_guess(RESCUE_GUESSES) if guessing and used != "QP infeasible" else None
-        return _failed(n, nonlinear, linear, used) if rescued is None else rescued
+        return _failed(n, nonlinear, linear, used)
     y = np.zeros(0) if sol.y is None else np.asarray(sol.y, dtype=float).ravel()
     z = np.zeros(0) if sol.z is None else np.asarray(sol.z, dtype=float).ravel()
     zb = -np.asarray(sol.z_box, dtype=float) if (has_box and sol.z_box is not None) else np.zeros(n)

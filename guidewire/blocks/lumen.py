@@ -167,7 +167,11 @@ class Lumen(Block):
         far = vessel.far_side(points[nodes])
         keep = np.isfinite(far.distance)
         depth = near.distance[nodes - 1]
-        parts = [(nodes, near.normal[nodes - 1], depth, near.curvature[nodes - 1], np.zeros(nodes.size, dtype=int)),
+        real = np.ones(nodes.size, dtype=bool)
+        if vessel.corners.size:
+            real = ~vessel.opening(near.boundary[nodes - 1], depth)
+        parts = [(nodes[real], near.normal[nodes - 1][real], depth[real], near.curvature[nodes - 1][real],
+                  np.zeros(int(real.sum()), dtype=int)),
                  (nodes[keep], far.normal[keep], far.distance[keep], far.curvature[keep],
                   np.ones(int(keep.sum()), dtype=int))]
         if vessel.corners.size:

@@ -41,7 +41,7 @@ from ..fields import fmt as _fmt
 from ..fields import fmt_point as _fmt_point
 from ..fields import warn_radius
 from .curves import Clearance
-from .geometry import TubeGeometry, WallGeometry
+from .geometry import FAR_WALL_TOLERANCE, TubeGeometry, WallGeometry
 
 FloatArray = NDArray[np.float64]
 Polyline = tuple[tuple[float, ...], ...]
@@ -305,6 +305,20 @@ class Vessel:
         p = np.asarray(points, dtype=float).reshape(-1, 2)
         geometry = self._geometry
         return geometry.answers.get(p, "far", geometry.search, geometry.derive)
+
+    def opening(self, boundary: ArrayLike, distance: ArrayLike) -> NDArray[np.bool_]:
+        """Whether each wall point ``boundary`` that :meth:`clearance` gave a point inside at ``distance`` (mm) lies in
+        an opening instead, shape (m,): deeper inside the lumen than :data:`~guidewire.vessel.geometry.FAR_WALL_TOLERANCE`
+        ``× distance`` (inside another tube: where tubes overlap, the nearest wall of the tube a point lies deepest
+        in can cross another tube's lumen, the parent's wall across a branch's opening). False where ``distance ≤ 0``
+        (a point outside: its nearest wall is the one it crossed)."""
+        b = np.asarray(boundary, dtype=float).reshape(-1, 2)
+        d = np.asarray(distance, dtype=float).reshape(-1)
+        inside = d > 0.0
+        out = np.zeros(d.size, dtype=bool)
+        if inside.any():
+            out[inside] = self.clearance(b[inside]).distance > FAR_WALL_TOLERANCE * d[inside]
+        return out
 
     def past_end(self, points: ArrayLike) -> NDArray[np.bool_]:
         """Whether each point lies beyond a tube's far end (in the straight continuation that lets a tip leave the

@@ -308,10 +308,13 @@ class Vessel:
 
     def opening(self, boundary: ArrayLike, distance: ArrayLike) -> NDArray[np.bool_]:
         """Whether each wall point ``boundary`` that :meth:`clearance` gave a point inside at ``distance`` (mm) lies in
-        an opening instead, shape (m,): deeper inside the lumen than :data:`~guidewire.vessel.geometry.FAR_WALL_TOLERANCE`
-        ``× distance`` (inside another tube: where tubes overlap, the nearest wall of the tube a point lies deepest
-        in can cross another tube's lumen, the parent's wall across a branch's opening). False where ``distance ≤ 0``
-        (a point outside: its nearest wall is the one it crossed)."""
+        an opening instead, shape (m,): deeper inside the lumen than
+        :data:`~guidewire.vessel.geometry.FAR_WALL_TOLERANCE` ``× distance``.
+
+        :meth:`clearance` measures a point against the tube it lies deepest in; where tubes overlap (a branch's
+        opening, two branches whose openings meet), that tube's wall can run through another tube's lumen (the
+        parent's wall across the opening), a wall that is not there. False where ``distance ≤ 0`` (a point outside:
+        its nearest wall is the one it crossed)."""
         b = np.asarray(boundary, dtype=float).reshape(-1, 2)
         d = np.asarray(distance, dtype=float).reshape(-1)
         inside = d > 0.0

@@ -169,7 +169,13 @@ class Lumen(Block):
         depth = near.distance[nodes - 1]
         real = np.ones(nodes.size, dtype=bool)
         if vessel.corners.size:
-            real = ~vessel.opening(near.boundary[nodes - 1], depth)
+            # the nearest wall of the tube a node lies deepest in, where it runs through another tube's lumen and the
+            # node clears that tube's wall too, is no wall: a row on it holds the node from moving into that tube
+            # (the module docstring)
+            gone = np.flatnonzero(vessel.opening(near.boundary[nodes - 1], depth))
+            if gone.size:
+                second = np.sort(vessel.tube_depths(points[nodes[gone]]), axis=1)[:, -2]  # (a corner: ≥ 2 tubes)
+                real[gone[second >= _needed(model, near.curvature[nodes[gone] - 1], nodes[gone])]] = False
         parts = [(nodes[real], near.normal[nodes - 1][real], depth[real], near.curvature[nodes - 1][real],
                   np.zeros(int(real.sum()), dtype=int)),
                  (nodes[keep], far.normal[keep], far.distance[keep], far.curvature[keep],

@@ -323,6 +323,16 @@ class Vessel:
             out[inside] = self.clearance(b[inside]).distance > FAR_WALL_TOLERANCE * d[inside]
         return out
 
+    def tube_depths(self, points: ArrayLike) -> FloatArray:
+        """Signed distance (mm, > 0 inside) of each point to the wall of each tube (main first, then the branches),
+        shape (m, 1 + branches): :meth:`clearance` is the largest of them. A two-wall vessel has one lumen: its
+        :meth:`clearance`, shape (m, 1)."""
+        p = np.asarray(points, dtype=float).reshape(-1, 2)
+        geometry = self._geometry
+        if isinstance(geometry, TubeGeometry):
+            return geometry.tube_depths(p)
+        return np.asarray(self.clearance(p).distance, dtype=float)[:, None]
+
     def past_end(self, points: ArrayLike) -> NDArray[np.bool_]:
         """Whether each point lies beyond a tube's far end (in the straight continuation that lets a tip leave the
         vessel), shape (m,). Always False for the lumen between two walls (open at both ends)."""

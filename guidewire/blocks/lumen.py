@@ -24,6 +24,13 @@ within 3 bar lengths or a quarter of their distance of touching it, the cold sol
 nodes up to 9 mm outside after the first round, 1596 iterations), and 45 mm in 180 bars took 107 iterations (12 s);
 with both rows at every node, 10 iterations, and 9 (0.04 s).
 
+Where tubes overlap (a branch's opening; two branches whose openings meet, as the aortic arch's first two), the
+nearest wall (:meth:`Vessel.clearance`: of the tube the node lies deepest in) can run through another tube's lumen
+(:meth:`Vessel.opening`); where the node also clears that other tube's wall (:meth:`Vessel.tube_depths`) it gets no
+row there: such a row, a wall that is not there, held the nodes sliding into the opening, one node a round (the arch's
+cold solves at 203-215 mm ran out of rounds). A node beside a corner, inside neither tube by its clearance, keeps it
+(what it is checked against is the deepest tube's clearance).
+
 Where a branch leaves, its walls meet the parent's at a corner (:attr:`guidewire.vessel.Vessel.corners`) that no
 curvature describes: a bar between a node in the parent and one in the branch cuts through it while both nodes keep
 their clearance (measured on ``scenes/vessels/s_bend_branch.toml``: insertion steps from 40 mm on with a bar's

@@ -24,6 +24,13 @@ within 3 bar lengths or a quarter of their distance of touching it, the cold sol
 nodes up to 9 mm outside after the first round, 1596 iterations), and 45 mm in 180 bars took 107 iterations (12 s);
 with both rows at every node, 10 iterations, and 9 (0.04 s).
 
+Where tubes overlap (a branch's opening; two branches whose openings meet, as the aortic arch's first two), the
+nearest wall (:meth:`Vessel.clearance`: of the tube the node lies deepest in) can run through another tube's lumen
+(:meth:`Vessel.opening`); where the node also clears that other tube's wall (:meth:`Vessel.tube_depths`) it gets no
+row there: such a row, a wall that is not there, held the nodes sliding into the opening, one node a round (the arch's
+cold solves at 203-215 mm ran out of rounds). A node beside a corner, inside neither tube by its clearance, keeps it
+(what it is checked against is the deepest tube's clearance).
+
 Where a branch leaves, its walls meet the parent's at a corner (:attr:`guidewire.vessel.Vessel.corners`) that no
 curvature describes: a bar between a node in the parent and one in the branch cuts through it while both nodes keep
 their clearance (measured on ``scenes/vessels/s_bend_branch.toml``: insertion steps from 40 mm on with a bar's
@@ -167,7 +174,17 @@ class Lumen(Block):
         far = vessel.far_side(points[nodes])
         keep = np.isfinite(far.distance)
         depth = near.distance[nodes - 1]
-        parts = [(nodes, near.normal[nodes - 1], depth, near.curvature[nodes - 1], np.zeros(nodes.size, dtype=int)),
+        real = np.ones(nodes.size, dtype=bool)
+        if vessel.corners.size:
+            # the nearest wall of the tube a node lies deepest in, where it runs through another tube's lumen and the
+            # node clears that tube's wall too, is no wall: a row on it holds the node from moving into that tube
+            # (the module docstring)
+            gone = np.flatnonzero(vessel.opening(near.boundary[nodes - 1], depth))
+            if gone.size:
+                second = np.sort(vessel.tube_depths(points[nodes[gone]]), axis=1)[:, -2]  # (a corner: ≥ 2 tubes)
+                real[gone[second >= _needed(model, near.curvature[nodes[gone] - 1], nodes[gone])]] = False
+        parts = [(nodes[real], near.normal[nodes - 1][real], depth[real], near.curvature[nodes - 1][real],
+                  np.zeros(int(real.sum()), dtype=int)),
                  (nodes[keep], far.normal[keep], far.distance[keep], far.curvature[keep],
                   np.ones(int(keep.sum()), dtype=int))]
         if vessel.corners.size:

@@ -198,6 +198,14 @@ class TubeGeometry:
         where[ii + 1, kk] = m + np.arange(ii.size)
         return both, where[np.argmax(value, axis=0), np.arange(m)]
 
+    def tube_depths(self, p: FloatArray) -> FloatArray:
+        """Signed distance (mm, > 0 inside) of every point to every tube's wall, shape (m, tubes): the values whose
+        largest :meth:`clearance` gives."""
+        tubes = self.tubes
+        m, t = len(p), len(tubes.curves)
+        found = tubes.closest_pairs(np.repeat(p, t, axis=0), np.tile(np.arange(t, dtype=np.intp), m))
+        return (found["radius"] - found["r"]).reshape(m, t)
+
     def past_end(self, p: FloatArray) -> NDArray[np.bool_]:
         tubes = self.tubes
         # only a point beyond some tube's far end plane can be in its straight continuation, and a point inside the

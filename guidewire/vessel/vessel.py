@@ -41,7 +41,7 @@ from ..fields import fmt as _fmt
 from ..fields import fmt_point as _fmt_point
 from ..fields import warn_radius
 from .curves import Clearance
-from .geometry import TubeGeometry, WallGeometry
+from .geometry import FAR_WALL_TOLERANCE, TubeGeometry, WallGeometry
 
 FloatArray = NDArray[np.float64]
 Polyline = tuple[tuple[float, ...], ...]
@@ -305,6 +305,33 @@ class Vessel:
         p = np.asarray(points, dtype=float).reshape(-1, 2)
         geometry = self._geometry
         return geometry.answers.get(p, "far", geometry.search, geometry.derive)
+
+    def opening(self, boundary: ArrayLike, distance: ArrayLike) -> NDArray[np.bool_]:
+        """Whether each wall point ``boundary`` that :meth:`clearance` gave a point inside at ``distance`` (mm) lies in
+        an opening instead, shape (m,): deeper inside the lumen than
+        :data:`~guidewire.vessel.geometry.FAR_WALL_TOLERANCE` ``× distance``.
+
+        :meth:`clearance` measures a point against the tube it lies deepest in; where tubes overlap (a branch's
+        opening, two branches whose openings meet), that tube's wall can run through another tube's lumen (the
+        parent's wall across the opening), a wall that is not there. False where ``distance ≤ 0`` (a point outside:
+        its nearest wall is the one it crossed)."""
+        b = np.asarray(boundary, dtype=float).reshape(-1, 2)
+        d = np.asarray(distance, dtype=float).reshape(-1)
+        inside = d > 0.0
+        out = np.zeros(d.size, dtype=bool)
+        if inside.any():
+            out[inside] = self.clearance(b[inside]).distance > FAR_WALL_TOLERANCE * d[inside]
+        return out
+
+    def tube_depths(self, points: ArrayLike) -> FloatArray:
+        """Signed distance (mm, > 0 inside) of each point to the wall of each tube (main first, then the branches),
+        shape (m, 1 + branches): :meth:`clearance` is the largest of them. A two-wall vessel has one lumen: its
+        :meth:`clearance`, shape (m, 1)."""
+        p = np.asarray(points, dtype=float).reshape(-1, 2)
+        geometry = self._geometry
+        if isinstance(geometry, TubeGeometry):
+            return geometry.tube_depths(p)
+        return np.asarray(self.clearance(p).distance, dtype=float)[:, None]
 
     def past_end(self, points: ArrayLike) -> NDArray[np.bool_]:
         """Whether each point lies beyond a tube's far end (in the straight continuation that lets a tip leave the

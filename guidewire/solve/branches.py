@@ -16,8 +16,8 @@ is skipped. Each candidate is solved (at most :func:`candidate_iterations` itera
 about as fast as the first, a failing one is cut short) and the lowest energy kept, lower by more than
 :data:`ENERGY_TIE` (relative) to replace an earlier answer; a failed or shape-rejected candidate never replaces a
 success. Scenes whose tangents are all prescribed (every paper scene) or vessels without branches solve once,
-and so do answers from the full-space layout (wall scenes above 300 bars): there a candidate solved from a given
-start can take far longer than the first solve (9 s against 0.17 s measured on two contacts 0.5 mm apart at 400
+and so do contact and wall scenes answered in the full-space layout (above 300 bars): there a candidate solved from a
+given start can take far longer than the first solve (9 s against 0.17 s measured on two contacts 0.5 mm apart at 400
 bars), so the multi-start is limited to the reduced program.
 
 A mirror start changes a tangent's side of the chord; a branch can also differ in *how far* a free tangent turns. On
@@ -38,7 +38,10 @@ default start follows the main centreline, and each branch that leaves it before
 start* along the way through that branch (:func:`route_starts`). Measured on the shipped vessels: in the aortic arch
 at 230 and 250 mm the way into the third branch ends at 0.078 and 0.088 N·mm against the main centreline's 1.30 and
 1.76; in ``s_bend_branch`` from 64 mm the branch's answer (5.03 N·mm) is below the S's (5.39-5.88). A candidate's
-iteration limit counts over all its working-set rounds (a start whose lumen planes never settle is cut short).
+iteration limit counts over all its working-set rounds (a start whose lumen planes never settle is cut short). Branch
+starts are bar angles, which the full-space program starts from as well, so a vessel gets them in either layout (the
+arch at 2 bars per mm, 205 / 210 mm, 410-420 bars in the full space: 0.036 / 0.045 N·mm through the third branch
+against the main centreline's 0.315, 0.7 s against 0.25 s).
 
 The candidates are built from the scene's geometry and the first answer only, so the mirrored or rotated scene gets
 the mirrored or rotated candidates, in the same order, and keeps the mirrored or rotated answer.
@@ -114,10 +117,12 @@ def candidate_starts(first: Solution) -> list[tuple[str, FloatArray]]:
         from the base on.
     """
     scene = first.scene
-    if not first.success or first.layout != "reduced":
+    if not first.success:
         return []
-    if getattr(scene, "vessel", None) is not None:
+    if getattr(scene, "vessel", None) is not None:  # (bar angles, which either layout starts from)
         return [] if scene.contacts else route_starts(scene)
+    if first.layout != "reduced":
+        return []
     contacts = scene.contacts
     posed = [i for i, c in enumerate(contacts) if c.point is not None]
     free = [scene.base.angle is None] + [contacts[i].angle is None for i in posed]

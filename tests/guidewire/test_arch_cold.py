@@ -57,10 +57,14 @@ def test_cold_solves_at_1_bar_per_mm_reach_the_insertions_answer(insertion, leng
 
 
 @pytest.mark.parametrize("length", LENGTHS)
-def test_cold_solves_at_2_bars_per_mm_converge_inside_the_lumen(length):
+def test_cold_solves_at_2_bars_per_mm_converge_inside_the_lumen(insertion, length):
     """At 2 bars per mm (the full-space program) the cold solve succeeds with every node inside the lumen, within
-    the working-set rounds."""
+    the working-set rounds; with ``branches="lowest"`` (the default) its tip is in the branch the warm insertion
+    reaches (its branch starts are tried in the full space too), below the main centreline's answer."""
     scene = _arch().with_wire(length=length, bars=round(2 * length))
     cold = guidewire.solve(scene)
     assert cold.success, cold.message
     _inside(scene, cold)
+    assert _tube(scene, cold.nodes[-1]) == _tube(scene, insertion[length].nodes[-1])
+    first = guidewire.solve(scene, branches="first")
+    assert cold.energy <= first.energy

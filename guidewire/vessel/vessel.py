@@ -317,10 +317,16 @@ class Vessel:
         its nearest wall is the one it crossed)."""
         b = np.asarray(boundary, dtype=float).reshape(-1, 2)
         d = np.asarray(distance, dtype=float).reshape(-1)
-        inside = d > 0.0
+        ask = d > 0.0
+        tubes = getattr(self._geometry, "tubes", None)
+        if ask.any() and tubes is not None and len(tubes.curves) > 1:
+            # (a wall point lies in another tube's lumen only where two tubes' depth bounds reach it, its own —
+            # depth ~0 on its wall — and that one's: elsewhere, far from every junction, nothing to search)
+            slack = 1e-9 * max(1.0, float(tubes.rmax.max()))
+            ask[ask] = np.count_nonzero(tubes.upper_bound(b[ask]) >= -slack, axis=1) >= 2
         out = np.zeros(d.size, dtype=bool)
-        if inside.any():
-            out[inside] = self.clearance(b[inside]).distance > FAR_WALL_TOLERANCE * d[inside]
+        if ask.any():
+            out[ask] = self.clearance(b[ask]).distance > FAR_WALL_TOLERANCE * d[ask]
         return out
 
     def tube_depths(self, points: ArrayLike) -> FloatArray:

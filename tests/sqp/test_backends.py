@@ -127,3 +127,22 @@ def test_an_interior_point_run_out_of_iterations_is_not_retried_looser(monkeypat
     monkeypatch.setattr(qp_call, "_ran_out", lambda solver, sol: False)
     qp_call.solve_qp([("piqp", {"max_iter": 1}), ("clarabel", {})], P, q, G, h, E, e, None, None, None, 1.0)
     assert calls == ["piqp", "piqp", "clarabel"]
+
+
+def test_daqp_runs_with_an_iteration_limit_far_above_what_its_answers_need(monkeypatch):
+    """DAQP is asked with ``iter_limit`` (2 000: its answers took at most 236 iterations on the guidewire's programs;
+    a failing elastic QP at its default 10 000 cost 10 s); a small QP's answer is unchanged."""
+    from sqp import backends
+
+    seen = []
+    solve = backends._daqp_module.solve
+
+    def recorded(*args, **kwargs):
+        seen.append(kwargs.get("iter_limit"))
+        return solve(*args, **kwargs)
+
+    monkeypatch.setattr(backends._daqp_module, "solve", recorded)
+    res = sqp.minimize(lambda x: float((x - 2.0) @ (x - 2.0)), np.zeros(3), jac=lambda x: 2.0 * (x - 2.0),
+                       constraints=[LinearConstraint(np.ones((1, 3)), -np.inf, 3.0)], qp_solver="daqp")
+    assert res.success and seen and set(seen) == {backends.DEFAULT_QP_OPTIONS["daqp"]["iter_limit"]}
+    np.testing.assert_allclose(res.x, np.ones(3), atol=1e-8)

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 import qpsolvers
 import scipy.sparse as sp
+from quartic_chain import quartic_chain
 
 import sqp
 from sqp.active_set import banded_kkt, guessed_qp, interleaved_order
@@ -86,22 +87,11 @@ def test_minimize_with_the_guess_matches_without_on_a_sparse_problem():
     rng = np.random.default_rng(4)
     target = rng.normal(size=n)
 
-    def fun(x):
-        return 0.5 * float(np.sum((x - target) ** 2)) + 0.25 * float(np.sum(np.diff(x) ** 4))
-
-    def jac(x):
-        g = x - target
-        dx3 = np.diff(x) ** 3
-        g[:-1] -= dx3
-        g[1:] += dx3
-        return g
+    fun, jac, tridiagonal = quartic_chain(target)
 
     def hess(x):
-        w = 3.0 * np.diff(x) ** 2
-        main = np.ones(n)
-        main[:-1] += w
-        main[1:] += w
-        return sp.diags([main, -w, -w], [0, 1, -1], format="csc")
+        main, off = tridiagonal(x)
+        return sp.diags([main, off, off], [0, 1, -1], format="csc")
 
     lumen = {"type": "ineq", "fun": lambda x: 0.5 - x ** 2, "jac": lambda x: sp.diags(-2.0 * x, format="csr"),
              "hess": lambda x, v: sp.diags(-2.0 * v, format="csc")}

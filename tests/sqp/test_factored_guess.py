@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import qpsolvers
+from quartic_chain import quartic_chain
 
 import sqp
 from sqp.hessian import CholeskyHessian
@@ -75,24 +76,11 @@ def test_minimize_with_the_dense_guess_matches_the_backends(seed):
     target = 2.0 * rng.normal(size=n)
     W = rng.normal(size=(8, n)) / np.sqrt(n)
 
-    def fun(x):
-        return 0.5 * float(np.sum((x - target) ** 2)) + 0.25 * float(np.sum(np.diff(x) ** 4))
-
-    def jac(x):
-        g = x - target
-        dx3 = np.diff(x) ** 3
-        g[:-1] -= dx3
-        g[1:] += dx3
-        return g
+    fun, jac, tridiagonal = quartic_chain(target)
 
     def hess(x):
-        w = 3.0 * np.diff(x) ** 2
-        H = np.diag(np.ones(n))
-        H[np.arange(n - 1), np.arange(n - 1)] += w
-        H[np.arange(1, n), np.arange(1, n)] += w
-        H[np.arange(n - 1), np.arange(1, n)] -= w
-        H[np.arange(1, n), np.arange(n - 1)] -= w
-        return H
+        main, off = tridiagonal(x)
+        return np.diag(main) + np.diag(off, 1) + np.diag(off, -1)
 
     rows = {"type": "ineq", "fun": lambda x: 1.0 - (W @ x) ** 2, "jac": lambda x: -2.0 * (W @ x)[:, None] * W,
             "hess": lambda x, v: -2.0 * (W.T * v) @ W}

@@ -101,7 +101,8 @@ def tracked_multipliers(previous: Solution3D, scene: Scene3D, n: int) -> list[Fl
     """The multipliers of ``previous`` carried to ``scene`` with ``n`` bars, row block by row block, as the track
     predictor carries the shape (bar ``k`` and node ``k`` keep their place: the first ``min(n_old, n)`` take the
     old values, new ones start at zero): closure (3 per bar), pinned contacts (as they were), walls (one per wall
-    and node), lumen (one per node). None when ``previous`` has none (a failed solve) or another layout."""
+    and node), lumen (one per node; a touching tip's goes to the new tip). None when ``previous`` has none (a
+    failed solve) or another layout."""
     old = previous.extras.get("multipliers")
     if old is None:
         return None
@@ -122,7 +123,16 @@ def tracked_multipliers(previous: Solution3D, scene: Scene3D, n: int) -> list[Fl
         blocks.append(carried(old[index], 1, len(scene.walls)))
         index += 1
     if scene.vessel is not None:
-        blocks.append(carried(old[index], 1))
+        lumen = carried(old[index], 1)
+        tip = float(np.asarray(old[index], dtype=float)[-1])
+        if n != n_old and tip > 0.0:
+            # (a tip pressed on the wall stays on it while the wire is pushed or pulled: its force goes with it to
+            # the new tip node; left at node n_old, it guessed a contact inside the wire's run while the step's
+            # answer held the new tip's row, and the first QP of every such step went to the backend)
+            if n_old <= n:
+                lumen[n_old - 1] = 0.0
+            lumen[n - 1] = tip
+        blocks.append(lumen)
         index += 1
     return blocks if index == len(old) else None
 

@@ -45,8 +45,12 @@ SAMPLE_SPACING = 0.5
 """Largest spacing (mm) of the samples that start the closest-ball search (smaller in narrow or tight tubes)."""
 
 NEWTON_STEPS = 5
-
 """Newton steps on ``u`` from the nearest sample (quadratic convergence from within a spacing)."""
+
+NEWTON_TOL = 1e-7
+"""A point's search stops after a Newton step no larger than this many sample spacings: the error it leaves is of
+the order of its square over the curve's scale (~1e-15 mm), where further steps only move ``u`` by rounding (on the
+arch at 356 nodes the largest steps were 0.46, 8e-4, 7e-9, then 5e-14 mm)."""
 
 MIN_GAP = 1e-3
 """Floor of ``a = R − r`` (mm): a lumen narrower than the wire has no room, and its row stays finite."""
@@ -133,6 +137,13 @@ class Tube:
         """Centre, derivatives and radius at ``u`` (clipped to ``[0, end + reach]``; straight past ``end``)."""
         u = np.clip(np.asarray(u, dtype=float), 0.0, self.top)
         inside = u <= self.end
+        if inside.all():  # (the usual case, a wire in the tube: no tail to splice in)
+            value, first, second = self._pieces(u)
+            if self.constant_radius:
+                r, r1, r2 = np.full(u.size, self.radius0), np.zeros(u.size), np.zeros(u.size)
+            else:
+                r, r1, r2 = value[:, 3], first[:, 3], second[:, 3]
+            return Closest(u, value[:, :3], first[:, :3], second[:, :3], r, r1, r2, u <= 0.0)
         ui = np.where(inside, u, self.end)
         value, first, second = self._pieces(ui)
         past = (u - self.end)[:, None]
@@ -153,20 +164,19 @@ class Tube:
         _, index = self.tree.query(p)
         u = self.u[index]
         h = self.spacing
+        live = np.arange(len(p))  # (points still searching: each point's steps depend on its own point alone)
         for _ in range(NEWTON_STEPS):
+            if not live.size:
+                break
             # Newton on G = a h_u (nearly linear in u), whose slope at the root is a h_uu < 0
-            e = self.evaluate(u)
-            parts = _Parts(e, p, r)
+            parts = _Parts(self.evaluate(u[live]), p[live], r[live])
             G = parts.a * parts.hu
             slope = parts.a1 * parts.hu + parts.a * parts.huu
             step = np.where(slope < 0.0, -G / np.where(slope < 0.0, slope, -1.0), np.sign(G) * h)
-            u_next = np.clip(u + np.clip(step, -h, h), 0.0, self.top)
-            if np.array_equal(u_next, u):
-                break  # (a fixed point: every further step, a function of u alone, would give u again)
-            u = u_next
-        else:
-            return self.evaluate(u)
-        return e
+            u[live] = np.clip(u[live] + np.clip(step, -h, h), 0.0, self.top)
+            # (a step this small leaves an error of the order of its square: rounding)
+            live = live[np.abs(step) > NEWTON_TOL * h]
+        return self.evaluate(u)
 
     def rows(self, p: FloatArray, r: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, Closest]:
         """``g`` (m,), ``∇g`` (m, 3), ``∇²g`` (m, 3, 3) and the closest-ball data (see the module docstring)."""

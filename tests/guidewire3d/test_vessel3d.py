@@ -189,3 +189,50 @@ def test_branch_row_bound_holds_and_lumen_rows_are_the_best_tube():
         assert np.all(tube.row_bound(p, r) >= g)
         assert np.all(tube.row_bound(p, r, floor) >= g)
     assert np.array_equal(vessel.lumen_rows(p, r)[0], np.max(rows, axis=0))
+
+
+@pytest.mark.parametrize("shape", ["helix", "tortuous", "arch"])
+def test_closest_ball_search_stops_at_the_maximiser(shape, monkeypatch):
+    """The closest-ball search that stops a point after a Newton step below ``NEWTON_TOL`` spacings ends where the
+    search that takes all its ``NEWTON_STEPS`` steps ends (``u`` to 1e-9 mm, rows to 1e-12 relative, gradients to
+    1e-10: the error the early stop leaves is of the order of its last step squared), at points inside, on and
+    outside the lumen of every tube (points that do not converge take the same steps in both)."""
+    import guidewire.vessel3d.tube as tube_module
+
+    vessel = {"helix": helix, "tortuous": tortuous, "arch": _arch}[shape]()
+    rng = np.random.default_rng(11)
+    line = np.vstack(vessel.centrelines(0.5))
+    p = line[rng.integers(0, len(line), 600)] + rng.normal(0.0, 1.5, (600, 3))
+    r = np.full(len(p), 0.3)
+    fast = [tube.rows(p, r) for tube in vessel.tubes]
+    monkeypatch.setattr(tube_module, "NEWTON_TOL", 0.0)
+    full = [tube.rows(p, r) for tube in vessel.tubes]
+    for (g, grad, _, e), (g_ref, grad_ref, _, e_ref) in zip(fast, full, strict=True):
+        assert np.max(np.abs(e.u - e_ref.u)) < 1e-9
+        assert np.max(np.abs(g - g_ref)) < 1e-12 * max(1.0, float(np.max(np.abs(g_ref))))
+        assert np.max(np.abs(grad - grad_ref)) < 1e-10
+
+
+def test_a_touching_tip_carries_its_force_to_the_new_tip(helix_insertion):
+    """The track predictor's multipliers: where the tip presses on the wall, its lumen force goes to the new tip
+    node of a pushed (or pulled) wire, and the converged next step holds the new tip's row — the guess that spares
+    the step's first QP a backend. Every other node keeps its place's force."""
+    from guidewire.solve3d.insert import advance, scene_at, tracked_multipliers
+
+    vessel, wire, out = helix_insertion
+    scene = Scene3D.in_vessel(wire, vessel)
+    density = wire.bars / wire.length
+    touching = [s for s in out.steps if s.success and s.extras["multipliers"][-1][-1] > 0.0]
+    assert len(touching) >= 5
+    for previous in touching[-5:]:
+        before = float(np.sum(previous.lengths))
+        for length in (before + 1.0, before - 1.0):
+            target = scene_at(scene, length, 0.0, density)
+            n = target.wire.bars
+            lumen = tracked_multipliers(previous, target, n)[-1]
+            old = previous.extras["multipliers"][-1]
+            assert lumen[-1] == old[-1]
+            keep = min(n, previous.n_bars) - 1
+            assert np.array_equal(lumen[:keep], old[:keep])
+        step = advance(scene, previous, before + 1.0, 0.0, density, {})
+        assert step.success and step.extras["multipliers"][-1][-1] > 0.0

@@ -245,5 +245,11 @@ class Block:
         follow the material move ``bars`` nodes on (walls, lumens); contact and angle rows stay (default)."""
         return self
 
+    def with_tip(self, old: int, new: int) -> Block:
+        """This block with the rows of node ``old``, the tip of a wire now ending at node ``new`` (insertion's warm
+        start by the track predictor), moved to node ``new``: a tip pressed on a wall stays on it while the wire is
+        pushed, where the other contacts stay in place (walls, lumens); other kinds are unchanged (default)."""
+        return self
+
     def with_index(self, index: int) -> Block:
         return replace(self, index=index)

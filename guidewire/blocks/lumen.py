@@ -337,3 +337,6 @@ class Lumen(Block):
 
     def advanced(self, bars: int) -> Block:
         return replace(self, nodes=self.nodes + bars)
+
+    def with_tip(self, old: int, new: int) -> Block:
+        return replace(self, nodes=np.where(self.nodes == old, new, self.nodes))

@@ -75,3 +75,32 @@ def test_a_tracked_start_keeps_its_new_length_inside_the_lumen():
             for other in EXTENSION_TURNS[np.abs(EXTENSION_TURNS) < abs(turn[0]) - 1e-12]:
                 assert clearance(np.where(new, straight + other, straight)) < need
     assert steered >= 2  # the family does exercise the steering
+
+
+@pytest.mark.parametrize(("name", "first", "last"), [("aortic_arch", 232.0, 240.0), ("bend", 40.0, 48.0),
+                                                     ("s_bend", 64.0, 72.0), ("tortuous", 25.0, 31.0)])
+def test_a_touching_tip_carries_its_force_to_the_new_tip(name, first, last):
+    """The track predictor's multipliers: where the tip presses on the wall, its rows' forces go to the new tip node
+    and every other row keeps its node (a contact stays where it is on the wall while the wire slides past it); the
+    next step's answer holds the new tip's row in most steps, as the warm start guesses (a tip passing the end of a
+    bend lifts off)."""
+    from guidewire.march.insertion import _tracked_multipliers
+
+    out = insert(_scene(name, first), np.arange(first, last + 0.5, 1.0))
+    assert out.complete and all(s.success for s in out.steps)
+    checked, held_tip = 0, 0
+    for prev, nxt in zip(out.steps, out.steps[1:], strict=False):
+        lumen = [k for k, b in enumerate(prev.blocks) if b.kind == "lumen"][0]
+        block, lam = prev.blocks[lumen], np.asarray(prev.multipliers[lumen])
+        tip = block.nodes == prev.n_bars
+        if not np.any(lam[tip] > 0.0):
+            continue
+        carried = _tracked_multipliers(prev, nxt.n_bars)
+        moved = carried.blocks[lumen]
+        assert np.array_equal(moved.nodes[tip], np.full(tip.sum(), nxt.n_bars))
+        assert np.array_equal(moved.nodes[~tip], block.nodes[~tip]) and np.array_equal(moved.sides, block.sides)
+        after = [k for k, b in enumerate(nxt.blocks) if b.kind == "lumen"][0]
+        held = nxt.blocks[after].nodes[np.asarray(nxt.multipliers[after]) > 0.0]
+        held_tip += int(nxt.n_bars in held)
+        checked += 1
+    assert checked >= 4 and held_tip >= 0.75 * checked, (held_tip, checked)

@@ -108,13 +108,13 @@ def test_insertion_steps_equal_steps_solved_alone(name, first, last):
     density = scene.wire.bars / scene.wire.length
     out = insert(scene.with_wire(length=first, bars=round(first * density)), np.arange(first, last + 0.5, 1.0))
     assert out.complete
-    from guidewire.march.insertion import _tracked_angles
+    from guidewire.march.insertion import _tracked_angles, _tracked_multipliers
 
     for prev, step in zip(out.steps[:-1], out.steps[1:], strict=True):
         alone_scene = load_scene(VESSELS / f"{name}.toml").with_wire(length=step.scene.wire.length,
                                                                      bars=step.n_bars)  # (a new vessel: no memo)
         start = _tracked_angles(prev, alone_scene, step.n_bars)
-        alone = guidewire.solve(alone_scene, initial_angles=start, multipliers0=prev)
+        alone = guidewire.solve(alone_scene, initial_angles=start, multipliers0=_tracked_multipliers(prev, step.n_bars))
         assert alone.iterations == step.iterations and alone.energy == step.energy
         assert np.array_equal(alone.nodes, step.nodes)
     assert formulate(out.steps[-1].scene).n == out.steps[-1].n_bars

@@ -14,13 +14,16 @@ IPOPT (cyipopt, exact sparse Hessians of the energy and of every row, on fixed p
 each step from the same start point (our predictor's frames and nodes); its time is the ``minimize_ipopt`` call,
 answers compared by energy. IPOPT gets no multiplier warm start (its warm-start options need tuned bound pushes).
 
+Navigation: the committed steering schedules (``examples/steer_<branch>.txt``, stEVE's J wire pushed and turned into
+each supra-aortic branch of the type I arch, 104-149 steps, up to 536 bars) replayed; the whole replay's wall time.
+
 Growth: the straight wire at 60 mm in the helix, carried to 100 … 3200 bars by the predictor (bars resampled along
 arc length), each size from the converged one before it (the first from a 2 bars per mm insertion), and converged;
 then the median of three 0.5 mm steps at that density. (Carried from the coarse insertion in one jump, 1 600 bars
 started from 120 straight pieces of 13 bars each and did not converge within 400 s.)
 
-Goals (3-D issue): ≤ 5 ms median per step at stEVE's size (~240 bars), ≥ 3× faster than warm-started IPOPT, growth
-≤ n^1.2 up to 3200 bars.
+Goals (3-D issue): ≤ 5 ms median per step at stEVE's size (~240 bars), ≥ 3× faster than warm-started IPOPT, a
+navigation into a branch in ≤ 2 s, growth ≤ n^1.2 up to 3200 bars.
 
 Usage: ``python benchmarks/vessels3d.py [--quick] [--out DIR]``; writes ``vessels3d.{md,csv}`` (``_quick`` with
 ``--quick``). BLAS is pinned to one thread.
@@ -190,6 +193,30 @@ def growth(sizes: tuple[int, ...]) -> list[dict[str, Any]]:
     return rows
 
 
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+NAVIGATION = ("left_subclavian", "left_common_carotid", "brachiocephalic")
+
+
+def navigation(quick: bool) -> list[dict[str, Any]]:
+    """The committed steering schedules (``examples/steer_<branch>.txt``: stEVE's J wire into each supra-aortic
+    branch of the type I arch by pushing and turning) replayed by :func:`insert3d`: steps, the whole replay's wall
+    time, per-step median and slowest, iterations, bars at the end, and the depth the tip ends at in its branch."""
+    scene = load_scene(SCENES / "aortic_arch_I.toml")
+    out = []
+    for name in NAVIGATION[:1] if quick else NAVIGATION:
+        table = np.loadtxt(EXAMPLES / f"steer_{name}.txt", ndmin=2)
+        if quick:
+            table = table[:20]
+        result = insert3d(scene, table[:, 0], np.radians(table[:, 1]))
+        times = np.array([s.solve_time_s for s in result.steps])
+        out.append({"branch": name, "steps": len(result.steps), "solved": sum(s.success for s in result.steps),
+                    "total_s": result.seconds, "median_ms": 1e3 * float(np.median(times)),
+                    "max_ms": 1e3 * float(times.max()), "iterations": sum(s.iterations for s in result.steps),
+                    "bars": result.steps[-1].n_bars})
+        print(f"  navigation {name}: {out[-1]['total_s']:.2f} s, {out[-1]['steps']} steps")
+    return out
+
+
 def main() -> None:
     ap = parser(__doc__, quick_help="short insertions, growth to 200 bars", repeats=1)
     ap.add_argument("--density", type=float, default=2.0, help="bars per mm (default 2: 240 bars at 120 mm)")
@@ -200,6 +227,7 @@ def main() -> None:
         print(f"{name}: {lengths.size} steps")
         rows += insertion(name, scene, lengths, turns, ipopt)
     grow = growth(QUICK_GROWTH if args.quick else GROWTH_BARS)
+    navigate = navigation(args.quick)
     stem = output_stem(args.out, "vessels3d", args.quick)
     write_csv(rows, stem.with_suffix(".csv"))
     lines = [f"# 3-D insertion and rotation steps{' (quick)' if args.quick else ''}", "",
@@ -224,6 +252,13 @@ def main() -> None:
     lines += markdown_table(["case", "steps solved", "bars (last)", "ours median ms", "ours max ms",
                              "median iterations", "IPOPT median ms", "IPOPT/ours (median of ratios)",
                              "IPOPT solved", "max energy gap (rel.)", "whole insertion s"], table)
+    lines += ["", "## Navigation (the committed steering schedules replayed: `examples/steer_<branch>.txt`)", "",
+              "stEVE's J wire in the type I arch at 2 bars per mm, pushed and turned into each supra-aortic branch "
+              "(the schedules `examples/steer_arch.py` found); the whole replay's wall time.", ""]
+    lines += markdown_table(["branch", "steps solved", "bars (last)", "whole replay s", "median ms per step",
+                             "slowest step ms", "iterations"],
+                            [[r["branch"], f"{r['solved']}/{r['steps']}", r["bars"], r["total_s"], r["median_ms"],
+                              r["max_ms"], r["iterations"]] for r in navigate])
     lines += ["", "## Growth (straight wire, helix, 60 mm; median of three 0.5 mm steps)", ""]
     lines += markdown_table(["bars", "ours ms per step", "iterations", "solved"],
                             [[g["bars"], g["ours_ms"], g["iterations"], g["success"]] for g in grow])

@@ -101,7 +101,7 @@ def tracked_multipliers(previous: Solution3D, scene: Scene3D, n: int) -> list[Fl
     """The multipliers of ``previous`` carried to ``scene`` with ``n`` bars, row block by row block, as the track
     predictor carries the shape (bar ``k`` and node ``k`` keep their place: the first ``min(n_old, n)`` take the
     old values, new ones start at zero): closure (3 per bar), pinned contacts (as they were), walls (one per wall
-    and node), lumen (one per node; a touching tip's goes to the new tip). None when ``previous`` has none (a
+    and node) and lumen (one per node), a touching tip's going to the new tip. None when ``previous`` has none (a
     failed solve) or another layout."""
     old = previous.extras.get("multipliers")
     if old is None:
@@ -114,25 +114,30 @@ def tracked_multipliers(previous: Solution3D, scene: Scene3D, n: int) -> list[Fl
         out[:, :keep] = a[:, :keep]
         return out.ravel()
 
+    def node_rows(values: FloatArray, groups: int = 1) -> FloatArray:
+        """One row per node (and group): carried, a touching tip's force going to the new tip node (a tip pressed
+        on a wall stays on it while the wire is pushed or pulled; left at node ``n_old`` it guessed a contact inside
+        the wire's run while the step's answer held the new tip's row, and the first QP of every such step went to
+        a backend)."""
+        a = np.asarray(values, dtype=float).reshape(groups, n_old)
+        out = carried(values, 1, groups).reshape(groups, n)
+        if n != n_old:
+            touching = a[:, -1] != 0.0  # (a lumen force is positive, a wall's negative)
+            if n_old <= n:
+                out[touching, n_old - 1] = 0.0
+            out[touching, n - 1] = a[touching, -1]
+        return out.ravel()
+
     blocks = [carried(old[0], 3)]
     index = 1
     if any(c.point is not None for c in scene.contacts):
         blocks.append(np.asarray(old[index], dtype=float))
         index += 1
     if scene.walls:
-        blocks.append(carried(old[index], 1, len(scene.walls)))
+        blocks.append(node_rows(old[index], len(scene.walls)))
         index += 1
     if scene.vessel is not None:
-        lumen = carried(old[index], 1)
-        tip = float(np.asarray(old[index], dtype=float)[-1])
-        if n != n_old and tip > 0.0:
-            # (a tip pressed on the wall stays on it while the wire is pushed or pulled: its force goes with it to
-            # the new tip node; left at node n_old, it guessed a contact inside the wire's run while the step's
-            # answer held the new tip's row, and the first QP of every such step went to the backend)
-            if n_old <= n:
-                lumen[n_old - 1] = 0.0
-            lumen[n - 1] = tip
-        blocks.append(lumen)
+        blocks.append(node_rows(old[index]))
         index += 1
     return blocks if index == len(old) else None
 

@@ -26,10 +26,16 @@ with both rows at every node, 10 iterations, and 9 (0.04 s).
 
 Where tubes overlap (a branch's opening; two branches whose openings meet, as the aortic arch's first two), the
 nearest wall (:meth:`Vessel.clearance`: of the tube the node lies deepest in) can run through another tube's lumen
-(:meth:`Vessel.opening`); where the node also clears that other tube's wall (:meth:`Vessel.tube_depths`) it gets no
-row there: such a row, a wall that is not there, held the nodes sliding into the opening, one node a round (the arch's
-cold solves at 203-215 mm ran out of rounds). A node beside a corner, inside neither tube by its clearance, keeps it
-(what it is checked against is the deepest tube's clearance).
+(:meth:`Vessel.opening`); where the node also clears that other tube's wall (:meth:`Vessel.tube_depths`) its row is
+not on that wall: such a row, a wall that is not there, held the nodes sliding into the opening, one node a round (the
+arch's cold solves at 203-215 mm ran out of rounds). Nor is the node left without a row on that side: a node of the
+arch's cold start at 211 mm (1 bar/mm) left so, in the openings of the first two branches, moved up a branch and out
+through its side wall, which no row modelled, and the round's answer had nodes up to 18 mm outside the lumen (the
+rounds then ran out after 20 s). Its row is on the nearest point of the lumen's boundary
+(:meth:`Vessel.nearest_boundary`: a wall point in no other tube's lumen), as a tangent line (curvature 0: that wall can
+belong to a tube the node is not in, whose curvature about the node means nothing); once the node comes near a wall,
+that wall is its deepest tube's and the row is exact again. A node beside a corner, inside neither tube by its
+clearance, keeps its nearest wall's row (what it is checked against is the deepest tube's clearance).
 
 Where a branch leaves, its walls meet the parent's at a corner (:attr:`guidewire.vessel.Vessel.corners`) that no
 curvature describes: a bar between a node in the parent and one in the branch cuts through it while both nodes keep
@@ -139,7 +145,8 @@ class Lumen(Block):
     needed : ndarray, shape (rows,)
         Clearance each node needs (mm): ``d_k/2`` (its section's diameter) plus the chord sag.
     sides : ndarray of int, shape (rows,)
-        What each row keeps the node from: 0 its nearest wall, 1 the wall across the lumen (:meth:`Vessel.far_side`),
+        What each row keeps the node from: 0 its nearest wall (where that lies in an opening, the nearest point of
+        the lumen's boundary: module docstring), 1 the wall across the lumen (:meth:`Vessel.far_side`),
         ``2 + c`` the vessel's corner ``c`` (curvature inf). ``nodes`` holds a node once for each (in that order).
     """
 
@@ -174,17 +181,20 @@ class Lumen(Block):
         far = vessel.far_side(points[nodes])
         keep = np.isfinite(far.distance)
         depth = near.distance[nodes - 1]
-        real = np.ones(nodes.size, dtype=bool)
+        normal, wall_depth, curvature = near.normal[nodes - 1], depth, near.curvature[nodes - 1]
         if vessel.corners.size:
             # the nearest wall of the tube a node lies deepest in, where it runs through another tube's lumen and the
-            # node clears that tube's wall too, is no wall: a row on it holds the node from moving into that tube
-            # (the module docstring)
+            # node clears that tube's wall too, is no wall: a row on it holds the node from moving into that tube;
+            # the row is on the nearest point of the lumen's boundary instead (the module docstring)
             gone = np.flatnonzero(vessel.opening(near.boundary[nodes - 1], depth))
             if gone.size:
                 second = np.sort(vessel.tube_depths(points[nodes[gone]]), axis=1)[:, -2]  # (a corner: ≥ 2 tubes)
-                real[gone[second >= _needed(model, near.curvature[nodes[gone] - 1], nodes[gone])]] = False
-        parts = [(nodes[real], near.normal[nodes - 1][real], depth[real], near.curvature[nodes - 1][real],
-                  np.zeros(int(real.sum()), dtype=int)),
+                gone = gone[second >= _needed(model, near.curvature[nodes[gone] - 1], nodes[gone])]
+            if gone.size:
+                wall = vessel.nearest_boundary(points[nodes[gone]])
+                wall_depth = depth.copy()  # (normal and curvature are copies already: fancy indexing)
+                normal[gone], wall_depth[gone], curvature[gone] = wall.normal, wall.distance, 0.0
+        parts = [(nodes, normal, wall_depth, curvature, np.zeros(nodes.size, dtype=int)),
                  (nodes[keep], far.normal[keep], far.distance[keep], far.curvature[keep],
                   np.ones(int(keep.sum()), dtype=int))]
         if vessel.corners.size:

@@ -148,6 +148,7 @@ class TubeGeometry:
         self.varying = np.array([np.ptp(rad) > 0.0 for _, rad, _ in lines])
         self._corners: tuple[FloatArray, FloatArray] | None = None if len(curves) > 1 else (np.zeros((0, 2)),
                                                                                            np.zeros(0))
+        self._boundary: tuple[Any, FloatArray, FloatArray] | None = None
         if len(curves) > 1:
             main_only = Tubes(curves[:1], head_open=[False], tail_open=[True])
             start = np.array([c.samples[0] for c in curves[1:]])
@@ -169,6 +170,28 @@ class TubeGeometry:
             points = wall_corners(self.wall_lines(), self.clearance, float(self.tubes.rmax.max()))
             self._corners = (points, wedge_angles(points, self.clearance, float(self.tubes.rmax.min())))
         return self._corners
+
+    @property
+    def boundary_samples(self) -> tuple[Any, FloatArray, FloatArray]:
+        """The wall lines' samples (:meth:`wall_lines`) that lie on the lumen's boundary — in no other tube's lumen
+        (clearance within :data:`CORNER_TOLERANCE` ``×`` the largest radius of 0) — as a k-d tree, the points (s, 2)
+        in mm and the boundary's curvature at each (1/mm); computed once."""
+        if self._boundary is None:
+            points = np.concatenate(self.wall_lines())
+            near = self.clearance(points)
+            on = near.distance <= CORNER_TOLERANCE * float(self.tubes.rmax.max())
+            self._boundary = (cKDTree(points[on]), points[on], np.asarray(near.curvature[on], dtype=float))
+        return self._boundary
+
+    def boundary_nearest(self, p: FloatArray) -> Clearance:
+        """The nearest sampled point of the lumen's boundary (:attr:`boundary_samples`) to each point inside: its
+        distance (mm), the unit vector to it (the outward normal there, up to the sampling), the point and the
+        boundary's curvature there."""
+        tree, points, curvature = self.boundary_samples
+        gap, i = tree.query(p)
+        gap = np.asarray(gap, dtype=float)
+        normal = (points[i] - p) / np.maximum(gap, np.finfo(float).tiny)[:, None]
+        return Clearance(distance=gap, normal=normal, boundary=points[i].copy(), curvature=curvature[i].copy())
 
     def best(self, p: FloatArray) -> tuple[dict[str, FloatArray], NDArray[np.intp]]:
         """The closest-point answers of :meth:`Tubes.closest_pairs` and, per point, the index into them of the tube

@@ -329,6 +329,28 @@ class Vessel:
             out[ask] = self.clearance(b[ask]).distance > FAR_WALL_TOLERANCE * d[ask]
         return out
 
+    def nearest_boundary(self, points: ArrayLike) -> Clearance:
+        """The nearest point of the lumen's boundary to each point inside (mm, unit normals, 1/mm): a wall point in
+        no other tube's lumen, where :meth:`clearance`'s nearest wall (of the tube the point lies deepest in) may lie
+        in an opening (:meth:`opening`).
+
+        For a tree of tubes the boundary is sampled (the wall lines of :meth:`wall_lines`, every
+        :data:`~guidewire.vessel.curves.SAMPLE_SPACING` mm or finer, less the samples inside another tube): the
+        point, its distance and the unit vector to it are the nearest sample's, the curvature the wall's there. A
+        two-wall vessel has no openings: its :meth:`clearance`.
+
+        Returns
+        -------
+        Clearance
+            ``distance`` (≥ 0), ``normal`` (from the point towards the boundary point), ``boundary`` and
+            ``curvature``, each of length m.
+        """
+        p = np.asarray(points, dtype=float).reshape(-1, 2)
+        geometry = self._geometry
+        if isinstance(geometry, TubeGeometry):
+            return geometry.boundary_nearest(p)
+        return self.clearance(p)
+
     def tube_depths(self, points: ArrayLike) -> FloatArray:
         """Signed distance (mm, > 0 inside) of each point to the wall of each tube (main first, then the branches),
         shape (m, 1 + branches): :meth:`clearance` is the largest of them. A two-wall vessel has one lumen: its

@@ -25,6 +25,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from sqp.active_set import FIRST_GUESSES, MAX_GUESSES, RESCUE_GUESSES, corrected_guess, guessed_qp
+from sqp.backends import elastic_backends
 from sqp.kkt import inf_norm
 from sqp.problem import Rows
 from sqp.qp_call import QP_RESIDUAL_TOL, Backends, solve_qp
@@ -389,7 +390,7 @@ def _solve_elastic(
     lo = np.concatenate([box_lo, np.zeros(k)])
     hi = np.concatenate([box_hi, np.full(k, np.inf)])
     x0 = None if initvals is None else np.concatenate([initvals, np.zeros(k)])
-    sol, used = solve_qp(backends, P, q, G, h, E, el, lo, hi, x0, max(scale, rho))
+    sol, used = solve_qp(elastic_backends(backends, n + k), P, q, G, h, E, el, lo, hi, x0, max(scale, rho))
     if sol is None:
         return _failed(n, nonlinear, linear, "elastic QP failed")
     z = np.zeros(0) if sol.z is None else np.asarray(sol.z, dtype=float).ravel()

@@ -173,11 +173,25 @@ class TubeGeometry:
 
     @property
     def boundary_samples(self) -> tuple[Any, FloatArray, FloatArray]:
-        """The wall lines' samples (:meth:`wall_lines`) that lie on the lumen's boundary — in no other tube's lumen
-        (clearance within :data:`CORNER_TOLERANCE` ``×`` the largest radius of 0) — as a k-d tree, the points (s, 2)
-        in mm and the boundary's curvature at each (1/mm); computed once."""
+        """Samples of every tube's wall — its sides (:meth:`wall_lines`), its entrance cap, the straight tail past its
+        far end and the cap that closes it, every :data:`SAMPLE_SPACING` mm or closer — that lie on the lumen's
+        boundary (in no other tube's lumen: clearance within :data:`CORNER_TOLERANCE` ``×`` the largest radius of 0),
+        as a k-d tree, the points (s, 2) in mm and the boundary's curvature at each (1/mm); computed once."""
         if self._boundary is None:
-            points = np.concatenate(self.wall_lines())
+            tubes = self.tubes
+            parts = self.wall_lines()
+            for k in range(len(tubes.curves)):
+                t, r = tubes.tail_tangent[k], float(tubes.tail_radius[k])
+                normal = np.array([-t[1], t[0]])
+                along = np.linspace(0.0, float(tubes.reach[k]), int(np.ceil(tubes.reach[k] / SAMPLE_SPACING)) + 1)
+                line = tubes.tail_point[k] + along[:, None] * t
+                parts += [line + r * normal, line - r * normal]
+                for centre, radius, axis in ((tubes.head_point[k], float(tubes.head_radius[k]), -tubes.head_tangent[k]),
+                                             (line[-1], r, t)):
+                    turn = np.linspace(-0.5 * np.pi, 0.5 * np.pi, int(np.ceil(np.pi * radius / SAMPLE_SPACING)) + 1)
+                    c, s_ = np.cos(turn)[:, None], np.sin(turn)[:, None]
+                    parts.append(centre + radius * (c * axis + s_ * np.array([-axis[1], axis[0]])))
+            points = np.concatenate(parts)
             near = self.clearance(points)
             on = near.distance <= CORNER_TOLERANCE * float(self.tubes.rmax.max())
             self._boundary = (cKDTree(points[on]), points[on], np.asarray(near.curvature[on], dtype=float))

@@ -174,7 +174,7 @@ class TubeGeometry:
     @property
     def boundary_samples(self) -> tuple[Any, FloatArray, FloatArray]:
         """Samples of every tube's wall — its sides (:meth:`wall_lines`), its entrance cap, the straight tail past its
-        far end and the cap that closes it, every :data:`SAMPLE_SPACING` mm or closer — that lie on the lumen's
+        far end and the cap that closes it, about every :data:`SAMPLE_SPACING` mm — that lie on the lumen's
         boundary (in no other tube's lumen: clearance within :data:`CORNER_TOLERANCE` ``×`` the largest radius of 0),
         as a k-d tree, the points (s, 2) in mm and the boundary's curvature at each (1/mm); computed once."""
         if self._boundary is None:

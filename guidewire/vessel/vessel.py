@@ -334,11 +334,12 @@ class Vessel:
         no other tube's lumen, where :meth:`clearance`'s nearest wall (of the tube the point lies deepest in) may lie
         in an opening (:meth:`opening`).
 
-        For a tree of tubes the boundary is sampled (every tube's sides, entrance cap, straight tail and the cap
-        that closes it, every :data:`~guidewire.vessel.curves.SAMPLE_SPACING` mm or closer, less the samples inside
-        another tube): the point, its distance and the unit vector to it are the nearest sample's (so the distance
-        is at most half a spacing more than the exact one), the curvature the wall's there. A two-wall vessel has
-        no openings: its :meth:`clearance`.
+        For a tree of tubes the boundary is sampled (every tube's sides at its centreline's fine sampling, entrance
+        cap, straight tail and the cap that closes it, less the samples inside another tube): the point, its
+        distance and the unit vector to it are the nearest sample's (the distance at most half the gap between
+        neighbouring samples more than the exact one: ~:data:`~guidewire.vessel.curves.SAMPLE_SPACING` mm, more on
+        the outer side of a bend), the curvature the wall's there. A two-wall vessel has no openings: its
+        :meth:`clearance`.
 
         Returns
         -------

@@ -52,8 +52,9 @@ DEFAULT_QP_OPTIONS: dict[str, dict[str, Any]] = {
 ELASTIC_QP_OPTIONS: dict[str, dict[str, Any]] = {"daqp": {"eps_prox": 1e-6}}
 
 
-def elastic_backends(backends: Sequence[tuple[str, dict[str, Any]]],
-                     variables: int) -> Sequence[tuple[str, dict[str, Any]]]:
+def elastic_backends(
+    backends: Sequence[tuple[str, dict[str, Any]]], variables: int
+) -> Sequence[tuple[str, dict[str, Any]]]:
     """``backends`` (name, settings) as an elastic QP of ``variables`` variables asks them: with
     :data:`ELASTIC_QP_OPTIONS` above :data:`DENSE_LIMIT` variables."""
     if variables <= DENSE_LIMIT:

@@ -28,10 +28,11 @@ Where tubes overlap (a branch's opening; two branches whose openings meet, as th
 nearest wall (:meth:`Vessel.clearance`: of the tube the node lies deepest in) can run through another tube's lumen
 (:meth:`Vessel.opening`); where the node also clears that other tube's wall (:meth:`Vessel.tube_depths`) its row is
 not on that wall: such a row, a wall that is not there, held the nodes sliding into the opening, one node a round (the
-arch's cold solves at 203-215 mm ran out of rounds). Nor is the node left without a row on that side: a node of the
-arch's cold start at 211 mm (1 bar/mm) left so, in the openings of the first two branches, moved up a branch and out
-through its side wall, which no row modelled, and the round's answer had nodes up to 18 mm outside the lumen (the
-rounds then ran out after 20 s). Its row is on the nearest point of the lumen's boundary
+arch's cold solves at 203-215 mm ran out of rounds). Nor is the node left without a row on that side: left so (the
+arch's cold solve at 211 mm, 1 bar/mm: nodes 199-208, in the openings of the first two branches, after the first
+round), nothing held those nodes on that side, the next round's SQP swung the wire's distal part back along the arch
+and out through its outer wall (its answer had nodes up to 18 mm outside the lumen, where the rows made at the
+round's start model nothing), and the rounds ran out after 20 s. Its row is on the nearest point of the lumen's boundary
 (:meth:`Vessel.nearest_boundary`: a wall point in no other tube's lumen), as a tangent line (curvature 0: that wall can
 belong to a tube the node is not in, whose curvature about the node means nothing); once the node comes near a wall,
 that wall is its deepest tube's and the row is exact again. A node beside a corner, inside neither tube by its

@@ -2,8 +2,9 @@
 
 A node whose nearest wall (of the tube it lies deepest in) runs through another tube's lumen gets its row on the
 nearest point of the lumen's boundary (:meth:`guidewire.vessel.Vessel.nearest_boundary`). Left without a row on that
-side, such nodes of the cold start at 211 mm (1 bar per mm) moved up a branch and out through its side wall, up to
-18 mm outside the lumen, and the solve failed after ~20 s.
+side (nodes 199-208 of the cold solve at 211 mm, 1 bar per mm), nothing held them there: the next round swung the
+wire's distal part back along the arch and out through its outer wall, up to 18 mm outside the lumen, and the solve
+failed after ~20 s.
 """
 
 from __future__ import annotations

@@ -9,37 +9,20 @@ the arch as it slid into the openings, one node a round, until the working-set r
 
 from __future__ import annotations
 
-from importlib import resources
-
 import numpy as np
 import pytest
+from arch_checks import arch, inside, tube
 
 import guidewire
 
-VESSELS = resources.files("guidewire") / "scenes" / "vessels"
 LENGTHS = (200.0, 203.0, 205.0, 208.0, 210.0, 214.0)
-
-
-def _arch() -> guidewire.Scene:
-    return guidewire.load_scene(str(VESSELS / "aortic_arch.toml"))
-
-
-def _inside(scene: guidewire.Scene, solution: guidewire.Solution) -> None:
-    """Every node keeps the wire's radius from the lumen's wall (within the solve's tolerance)."""
-    clearance = scene.vessel.clearance(np.asarray(solution.nodes)[1:]).distance
-    assert clearance.min() >= 0.5 * scene.wire.diameter - 1e-5 * scene.wire.length
-
-
-def _tube(scene: guidewire.Scene, point: np.ndarray) -> int:
-    """The tube (0 the arch, k the branch k) the point lies deepest in."""
-    return int(np.argmax(scene.vessel.tube_depths(point)[0]))
 
 
 @pytest.fixture(scope="module")
 def insertion() -> dict[float, guidewire.Solution]:
     """The warm insertion at 1 bar per mm, 1 mm steps, by inserted length."""
-    arch = _arch().with_wire(length=200.0, bars=200)
-    steps = guidewire.insert(arch, np.arange(1.0, max(LENGTHS) + 0.5, 1.0)).steps
+    start = arch().with_wire(length=200.0, bars=200)
+    steps = guidewire.insert(start, np.arange(1.0, max(LENGTHS) + 0.5, 1.0)).steps
     return {float(round(s.scene.wire.length)): s for s in steps}
 
 
@@ -47,12 +30,12 @@ def insertion() -> dict[float, guidewire.Solution]:
 def test_cold_solves_at_1_bar_per_mm_reach_the_insertions_answer(insertion, length):
     """At 1 bar per mm the cold solve succeeds with every node inside the lumen, its tip in the branch the warm
     insertion's is in, at the insertion's energy (relative 1e-6)."""
-    scene = _arch().with_wire(length=length, bars=round(length))
+    scene = arch().with_wire(length=length, bars=round(length))
     cold = guidewire.solve(scene)
     warm = insertion[length]
     assert warm.success and cold.success, cold.message
-    _inside(scene, cold)
-    assert _tube(scene, cold.nodes[-1]) == _tube(scene, warm.nodes[-1])
+    inside(scene, cold)
+    assert tube(scene, cold.nodes[-1]) == tube(scene, warm.nodes[-1])
     assert cold.energy == pytest.approx(warm.energy, rel=1e-6)
 
 
@@ -61,10 +44,10 @@ def test_cold_solves_at_2_bars_per_mm_converge_inside_the_lumen(insertion, lengt
     """At 2 bars per mm (the full-space program) the cold solve succeeds with every node inside the lumen, within
     the working-set rounds; with ``branches="lowest"`` (the default) its tip is in the branch the warm insertion
     reaches (its branch starts are tried in the full space too), below the main centreline's answer."""
-    scene = _arch().with_wire(length=length, bars=round(2 * length))
+    scene = arch().with_wire(length=length, bars=round(2 * length))
     cold = guidewire.solve(scene)
     assert cold.success, cold.message
-    _inside(scene, cold)
-    assert _tube(scene, cold.nodes[-1]) == _tube(scene, insertion[length].nodes[-1])
+    inside(scene, cold)
+    assert tube(scene, cold.nodes[-1]) == tube(scene, insertion[length].nodes[-1])
     first = guidewire.solve(scene, branches="first")
     assert cold.energy <= first.energy

@@ -9,39 +9,22 @@ failed after ~20 s.
 
 from __future__ import annotations
 
-from importlib import resources
-
 import numpy as np
 import pytest
+from arch_checks import VESSELS, arch, inside, tube
 
 import guidewire
 from guidewire.vessel.curves import SAMPLE_SPACING
 from guidewire.vessel.geometry import CORNER_TOLERANCE
 
-VESSELS = resources.files("guidewire") / "scenes" / "vessels"
 LENGTHS_1 = (205.0, 207.0, 209.0, 211.0, 213.0, 216.0, 218.0)
 LENGTHS_2 = (206.0, 211.0, 216.0)
 
 
-def _arch() -> guidewire.Scene:
-    return guidewire.load_scene(str(VESSELS / "aortic_arch.toml"))
-
-
-def _inside(scene: guidewire.Scene, solution: guidewire.Solution) -> None:
-    """Every node keeps the wire's radius from the lumen's wall (within the solve's tolerance)."""
-    clearance = scene.vessel.clearance(np.asarray(solution.nodes)[1:]).distance
-    assert clearance.min() >= 0.5 * scene.wire.diameter - 1e-5 * scene.wire.length
-
-
-def _tube(scene: guidewire.Scene, point: np.ndarray) -> int:
-    """The tube (0 the arch, k the branch k) the point lies deepest in."""
-    return int(np.argmax(scene.vessel.tube_depths(point)[0]))
-
-
 def _insertion(bars_per_mm: int) -> dict[float, guidewire.Solution]:
     """The warm insertion at ``bars_per_mm``, 1 mm steps, by inserted length."""
-    arch = _arch().with_wire(length=200.0, bars=200 * bars_per_mm)
-    steps = guidewire.insert(arch, np.arange(1.0, max(LENGTHS_1 + LENGTHS_2) + 0.5, 1.0)).steps
+    start = arch().with_wire(length=200.0, bars=200 * bars_per_mm)
+    steps = guidewire.insert(start, np.arange(1.0, max(LENGTHS_1 + LENGTHS_2) + 0.5, 1.0)).steps
     return {float(round(s.scene.wire.length)): s for s in steps}
 
 
@@ -80,18 +63,18 @@ def test_cold_solves_at_1_bar_per_mm_succeed_and_reach_the_insertions_energy(ins
     """The cold solve (the main centreline's start alone) succeeds inside the lumen; where its tip is in the branch
     the warm insertion's is in, at the insertion's energy (relative 1e-6), and where not, the solve with the
     branch starts (``branches="lowest"``) is, below the first answer."""
-    scene = _arch().with_wire(length=length, bars=round(length))
+    scene = arch().with_wire(length=length, bars=round(length))
     warm = insertions[1][length]
     first = guidewire.solve(scene, branches="first")
     assert warm.success and first.success, first.message
-    _inside(scene, first)
-    if _tube(scene, first.nodes[-1]) != _tube(scene, warm.nodes[-1]):
+    inside(scene, first)
+    if tube(scene, first.nodes[-1]) != tube(scene, warm.nodes[-1]):
         lowest = guidewire.solve(scene)
         assert lowest.success, lowest.message
-        _inside(scene, lowest)
+        inside(scene, lowest)
         assert lowest.energy <= first.energy
         first = lowest
-    assert _tube(scene, first.nodes[-1]) == _tube(scene, warm.nodes[-1])
+    assert tube(scene, first.nodes[-1]) == tube(scene, warm.nodes[-1])
     assert first.energy == pytest.approx(warm.energy, rel=1e-6)
 
 
@@ -99,10 +82,10 @@ def test_cold_solves_at_1_bar_per_mm_succeed_and_reach_the_insertions_energy(ins
 def test_cold_solves_at_2_bars_per_mm_reach_the_insertions_branch_and_energy(insertions, length):
     """At 2 bars per mm (the full-space program), the cold solve with the branch starts succeeds inside the lumen,
     in the branch the warm insertion at the same density reaches, at its energy (relative 1e-6)."""
-    scene = _arch().with_wire(length=length, bars=round(2 * length))
+    scene = arch().with_wire(length=length, bars=round(2 * length))
     warm = insertions[2][length]
     cold = guidewire.solve(scene)
     assert warm.success and cold.success, cold.message
-    _inside(scene, cold)
-    assert _tube(scene, cold.nodes[-1]) == _tube(scene, warm.nodes[-1])
+    inside(scene, cold)
+    assert tube(scene, cold.nodes[-1]) == tube(scene, warm.nodes[-1])
     assert cold.energy == pytest.approx(warm.energy, rel=1e-6)

@@ -200,7 +200,7 @@ NAVIGATION = ("left_subclavian", "left_common_carotid", "brachiocephalic")
 def navigation(quick: bool) -> list[dict[str, Any]]:
     """The committed steering schedules (``examples/steer_<branch>.txt``: stEVE's J wire into each supra-aortic
     branch of the type I arch by pushing and turning) replayed by :func:`insert3d`: steps, the whole replay's wall
-    time, per-step median and slowest, iterations, bars at the end, and the depth the tip ends at in its branch."""
+    time, per-step median and slowest, iterations and bars at the end."""
     scene = load_scene(SCENES / "aortic_arch_I.toml")
     out = []
     for name in NAVIGATION[:1] if quick else NAVIGATION:

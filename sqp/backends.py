@@ -27,8 +27,13 @@ DEFAULT_QP_OPTIONS: dict[str, dict[str, Any]] = {
     # PIQP's iteration limit (its default 250): on the guidewire's full-space vessel subproblems (960-2400 variables)
     # the QPs it solves take 17-94 iterations (median ~27), and the ones it cannot (a large augmented-Lagrangian
     # weight) ran to the limit twice (with the looser retry) before Clarabel answered: 8.2 of 9.2 s of a tortuous
-    # solve at 400 bars; at 100 the same QPs are solved and the failures cost 0.4 of their time
-    "piqp": {"eps_abs": 1e-10, "eps_rel": 1e-12, "max_iter": 100},
+    # solve at 400 bars; at 100 the same QPs are solved and the failures cost 0.4 of their time.
+    # Its Ruiz equilibration (``preconditioner_iter``, default 10 passes): on the compressed vessel programs at
+    # 1 600-3 200 bars (9 600 variables, model Hessian diagonal 3e3-8e7) the QPs it could not solve stalled at a dual
+    # residual ~1e-2 for all 100 iterations; with 3 passes (0 does as well) they are solved in 14-29 iterations: of 116
+    # full-space QPs captured from the shipped vessels' cold solves at 400-3 200 bars, 101 → 114 solved, their time
+    # 5.9 → 3.8 s; the ones solved either way take about as many iterations
+    "piqp": {"eps_abs": 1e-10, "eps_rel": 1e-12, "max_iter": 100, "preconditioner_iter": 3},
     "clarabel": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},
     # DAQP's default primal tolerance (1e-6, absolute) leaves rows of the linearisation violated up to 1e-6: near a
     # solution that is the whole violation the step should remove, and such a step can be no descent direction of
@@ -67,7 +72,9 @@ def elastic_backends(
 RETRY_QP_OPTIONS: dict[str, list[dict[str, Any]]] = {
     "osqp": [{"eps_abs": 1e-7, "eps_rel": 1e-7}, {"eps_abs": 1e-5, "eps_rel": 1e-5, "max_iter": 20000}],
     "proxqp": [{"eps_abs": 1e-7}],
-    "piqp": [{"eps_abs": 1e-7, "eps_rel": 1e-9}],
+    # (PIQP: its stalls are not tolerance-bound, a looser one stalls alike; iterative refinement of every KKT solve
+    # solves some of them: the aortic arch's at 3 200 bars that stalled with 3 passes of equilibration)
+    "piqp": [{"iterative_refinement_always_enabled": True}],
     "clarabel": [{"tol_gap_abs": 1e-7, "tol_gap_rel": 1e-7, "tol_feas": 1e-7}],
 }
 

@@ -78,8 +78,6 @@ def solve_qp(
                 return sol, solver
             if sol is not None and _declared_infeasible(sol):
                 return None, "QP infeasible"
-            if sol is not None and _ran_out(solver, sol):
-                break  # (its looser retry follows the same iterates: the next backend is asked)
     return None, reason
 
 
@@ -93,18 +91,6 @@ def _declared_infeasible(sol: qpsolvers.Solution) -> bool:
     extras = sol.extras if isinstance(sol.extras, dict) else {}
     status = str(getattr(extras.get("info"), "status", "") or extras.get("status", "")).lower()
     return "infeasible" in status and "inaccurate" not in status and "almost" not in status and "dual" not in status
-
-
-def _ran_out(solver: str, sol: qpsolvers.Solution) -> bool:
-    """Whether an interior-point backend stopped at its iteration limit (PIQP's ``info.status``): its retry with
-    looser tolerances takes the same iterates, and stops before the limit only if one of them met those tolerances,
-    which, the residuals falling as they do, its last one then would have too. Measured on the guidewire's vessels
-    at 1 600-3 200 bars (an augmented-Lagrangian model of condition ~1e11): 20 of 20 such retries failed, 2.9 s of
-    the solves' 17 s."""
-    if solver != "piqp":
-        return False
-    extras = sol.extras if isinstance(sol.extras, dict) else {}
-    return "max_iter" in str(getattr(extras.get("info"), "status", "")).lower()
 
 
 @contextlib.contextmanager

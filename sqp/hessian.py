@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 from scipy.linalg import lapack
 
 from sqp import structured
+from sqp.pencil import BandPencil, band_positive_definite, lower_band
 from sqp.structured import SPARSE_GRAM_DENSITY
 
 Array = NDArray[np.float64]
@@ -165,7 +166,7 @@ def _convexify(W: Any, shift: float, C: Any, rho: float, alone_first: bool = Tru
                                   AL_WEIGHT_RUNGS if max_rungs is None else max_rungs)
         if found is not None:
             return found
-    return _shift_ladder(W, shift, scale, is_sparse)
+    return _shift_ladder(W, shift, scale, is_sparse, BandPencil.of(W) if is_sparse else None)
 
 
 #: The augmented-Lagrangian weight ``r`` of path 2 starts where ``r C^T C``'s diagonal is this fraction of ``W``'s
@@ -202,10 +203,15 @@ def _augmented_ladder(W: Any, CtC: Any, rho: float, rungs: int, scale: float,
     r0 = AL_WEIGHT_START * scale / base
     r = r0 if rho <= 0.0 else max(rho / WEIGHT_DECAY, r0) if is_sparse else rho / WEIGHT_DECAY
     r *= LADDER_GROWTH**rungs  # (the same numbers as growing it tenfold: rungs is 0 or 1)
+    pencil = BandPencil.of(W, CtC) if is_sparse else None
     for _ in range(max_rungs - rungs):
-        B = _accepted(_sorted(_plus_scaled(W, r, CtC, is_sparse), is_sparse), is_sparse)
-        if B is not None:
-            return B, 0.0, r
+        if pencil is not None:  # (tested in band storage; the sparse sum formed for the weight that passes)
+            if pencil.positive_definite(r):
+                return _sorted(_plus_scaled(W, r, CtC, True), True), 0.0, r
+        else:
+            B = _accepted(_sorted(_plus_scaled(W, r, CtC, is_sparse), is_sparse), is_sparse)
+            if B is not None:
+                return B, 0.0, r
         r *= LADDER_GROWTH
     return None
 
@@ -216,25 +222,44 @@ def _augmented_ladder(W: Any, CtC: Any, rho: float, rungs: int, scale: float,
 SHIFT_PIVOT_ROUNDINGS = 100.0
 
 
-def _shift_ladder(W: Any, shift: float, scale: float, is_sparse: bool) -> tuple[Any, float, float]:
+def _shift_ladder(W: Any, shift: float, scale: float, is_sparse: bool, pencil: BandPencil | None = None,
+                  r: float = 0.0, CtC: Any = None) -> tuple[Any, float, float]:
     """Path 3 of :func:`convexify`: ``W + delta I`` for the first ``delta`` (from the last one, ``shift``, or
-    :data:`SHIFT_START`) that passes the Cholesky test (the last one tried when none does)."""
+    :data:`SHIFT_START`) that passes the Cholesky test (the last one tried when none does). With a ``pencil``
+    (:class:`sqp.pencil.BandPencil` of ``W`` and ``CtC``) the matrix shifted is ``W + r CtC``, tested in band
+    storage."""
     delta = max(shift / WEIGHT_DECAY, SHIFT_START * scale)
     for _ in range(SHIFT_RUNGS):
-        B, accepted = _shifted(W, delta, scale, is_sparse)
+        accepted = _shifted(W, delta, scale, is_sparse, pencil, r, CtC)
         if accepted is not None:
             return accepted, delta, 0.0
         delta *= LADDER_GROWTH
-    return B, delta, 0.0
+    delta /= LADDER_GROWTH
+    return _sorted(_base(W, r, CtC, is_sparse) + delta * _eye(W.shape[0], is_sparse), is_sparse), delta, 0.0
 
 
-def _shifted(W: Any, delta: float, scale: float, is_sparse: bool) -> tuple[Any, Any | None]:
-    """``W + delta I``, and it again when it passes the Cholesky test of the shift ladder (None when not)."""
-    eye = sp.identity(W.shape[0], format="csc") if is_sparse else np.eye(W.shape[0])
-    B = _sorted(W + delta * eye, is_sparse)
+def _eye(n: int, is_sparse: bool) -> Any:
+    return sp.identity(n, format="csc") if is_sparse else np.eye(n)
+
+
+def _base(W: Any, r: float, CtC: Any, is_sparse: bool) -> Any:
+    """``W + r CtC`` (``W`` when ``r`` is 0 or there is no ``CtC``)."""
+    return _plus_scaled(W, r, CtC, is_sparse) if (r != 0.0 and CtC is not None) else W
+
+
+def _shifted(W: Any, delta: float, scale: float, is_sparse: bool, pencil: BandPencil | None = None,
+             r: float = 0.0, CtC: Any = None) -> Any | None:
+    """``W + r CtC + delta I`` when it passes the Cholesky test of the shift ladder, else None; tested on the
+    ``pencil`` of ``W`` and ``CtC`` when given (the sum then formed only when it passes)."""
     # (W_ii + delta is exact to eps (|W_ii| + delta): a smaller pivot may be a zero eigenvalue, which a delta
     # of a power of ten times max|W_ii| meets exactly where W's most negative eigenvalue is -max|W_ii|)
-    return B, _accepted(B, is_sparse, SHIFT_PIVOT_ROUNDINGS * np.finfo(float).eps * (scale + delta))
+    floor = SHIFT_PIVOT_ROUNDINGS * np.finfo(float).eps * (scale + delta)
+    if pencil is not None:
+        if not pencil.positive_definite(r, delta, floor):
+            return None
+        return _sorted(_base(W, r, CtC, True) + delta * _eye(W.shape[0], True), True)
+    B = _sorted(_base(W, r, CtC, is_sparse) + delta * _eye(W.shape[0], is_sparse), is_sparse)
+    return _accepted(B, is_sparse, floor)
 
 
 #: The augmented-Lagrangian weight under an identity shift (:func:`shifted_augmented`) starts at this many times the
@@ -275,17 +300,22 @@ def shifted_augmented(W: Any, C: Any, shift: float) -> tuple[Any, float, float]:
     scale = max(1.0, float(np.abs(W.diagonal()).max()))
     base = float(CtC.diagonal().max()) if CtC is not None else 0.0
     if base <= 0.0:  # (or C^T C would not stay sparse: W alone is shifted)
-        return _shift_ladder(W, shift, scale, is_sparse)
+        return _shift_ladder(W, shift, scale, is_sparse, BandPencil.of(W) if is_sparse else None)
     r = SHIFTED_WEIGHT * AL_WEIGHT_START * scale / base
-    B, delta, _ = _shift_ladder(_plus_scaled(W, r, CtC, is_sparse), shift, scale, is_sparse)
+    pencil = BandPencil.of(W, CtC) if is_sparse else None
+    if pencil is not None:
+        B, delta, _ = _shift_ladder(W, shift, scale, is_sparse, pencil, r, CtC)
+    else:
+        B, delta, _ = _shift_ladder(_plus_scaled(W, r, CtC, is_sparse), shift, scale, is_sparse)
     weight = r
     for _ in range(SHIFTED_WEIGHT_RUNGS):
         r *= LADDER_GROWTH
-        A = _plus_scaled(W, r, CtC, is_sparse)
+        A = None if pencil is not None else _plus_scaled(W, r, CtC, is_sparse)
         # (one test a weight while a tenth of the shift still fails; where it passes, tenfold smaller shifts while
         # they pass too: the lowest eigenvalue rises with the weight)
         while delta / LADDER_GROWTH >= max(SHIFT_START * scale, SHIFT_CONDITION * (scale + r * base)):
-            accepted = _shifted(A, delta / LADDER_GROWTH, scale, is_sparse)[1]
+            accepted = (_shifted(W, delta / LADDER_GROWTH, scale, is_sparse, pencil, r, CtC) if pencil is not None
+                        else _shifted(A, delta / LADDER_GROWTH, scale, is_sparse))
             if accepted is None:
                 break
             B, delta, weight = accepted, delta / LADDER_GROWTH, r
@@ -394,30 +424,14 @@ def _accepted(B: Any, is_sparse: bool, floor: float = 0.0) -> Any | None:
     return CholeskyHessian.wrap(B, L)
 
 
-#: Widest band (``max |i - j|`` over the stored entries) for which a sparse matrix is tested by LAPACK's banded
-#: Cholesky (``dpbtrf``, O(n b²)) instead of SuperLU's unpivoted LU: on the guidewire's 3-D program (1200-1500
-#: variables, band 8-11) 0.05 ms against 0.6 ms. Both test the signs of the same pivots (Sylvester's law).
-BANDED_CHOLESKY_MAX = 32
-
-
 def _positive_definite(B: Any, floor: float = 0.0) -> bool:
     """Whether the sparse symmetric ``B`` is positive definite: its banded Cholesky factorisation succeeds (a band
-    up to :data:`BANDED_CHOLESKY_MAX`), else the pivots of its LU factorisation without pivoting are all positive
-    (Sylvester's law of inertia); every pivot (``L_ii^2`` or ``U_ii``) above ``floor`` too."""
+    up to :data:`sqp.pencil.BANDED_CHOLESKY_MAX`), else the pivots of its LU factorisation without pivoting are all
+    positive (Sylvester's law of inertia); every pivot (``L_ii^2`` or ``U_ii``) above ``floor`` too."""
+    ab = lower_band(B)
+    if ab is not None:
+        return band_positive_definite(ab, floor)
     B = sp.csc_matrix(B)
-    if not B.has_canonical_format:  # (every entry once: the band below is filled by assignment)
-        B = B.copy()
-        B.sum_duplicates()
-    n = B.shape[0]
-    col = np.repeat(np.arange(n), np.diff(B.indptr))
-    offset = B.indices - col
-    if n and int(np.max(np.abs(offset), initial=0)) <= BANDED_CHOLESKY_MAX:
-        lower = offset >= 0
-        ab = np.zeros((int(np.max(offset, initial=0)) + 1, n))
-        ab.reshape(-1)[offset[lower] * n + col[lower]] = B.data[lower]
-        factor, info = lapack.dpbtrf(ab, lower=1, overwrite_ab=1)
-        return bool(info == 0 and np.all(np.isfinite(factor[0])) and np.all(factor[0] > 0.0)
-                    and np.all(factor[0] * factor[0] > floor))
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")

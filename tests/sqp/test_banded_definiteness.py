@@ -10,7 +10,8 @@ import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from sqp.hessian import BANDED_CHOLESKY_MAX, _positive_definite
+from sqp.hessian import _positive_definite
+from sqp.pencil import BANDED_CHOLESKY_MAX
 
 
 def _lu_decides(B: sp.csc_matrix) -> bool:

@@ -227,39 +227,34 @@ def _shift_ladder(W: Any, shift: float, scale: float, is_sparse: bool, pencil: B
     """Path 3 of :func:`convexify`: ``W + delta I`` for the first ``delta`` (from the last one, ``shift``, or
     :data:`SHIFT_START`) that passes the Cholesky test (the last one tried when none does). With a ``pencil``
     (:class:`sqp.pencil.BandPencil` of ``W`` and ``CtC``) the matrix shifted is ``W + r CtC``, tested in band
-    storage."""
+    storage and formed once."""
     delta = max(shift / WEIGHT_DECAY, SHIFT_START * scale)
     for _ in range(SHIFT_RUNGS):
-        accepted = _shifted(W, delta, scale, is_sparse, pencil, r, CtC)
-        if accepted is not None:
-            return accepted, delta, 0.0
+        if pencil is not None:
+            if pencil.positive_definite(r, delta, _shift_floor(scale, delta)):
+                return _formed(W, r, CtC, delta, True), delta, 0.0
+        else:
+            accepted = _accepted(_formed(W, r, CtC, delta, is_sparse), is_sparse, _shift_floor(scale, delta))
+            if accepted is not None:
+                return accepted, delta, 0.0
         delta *= LADDER_GROWTH
     delta /= LADDER_GROWTH
-    return _sorted(_base(W, r, CtC, is_sparse) + delta * _eye(W.shape[0], is_sparse), is_sparse), delta, 0.0
+    return _formed(W, r, CtC, delta, is_sparse), delta, 0.0
 
 
-def _eye(n: int, is_sparse: bool) -> Any:
-    return sp.identity(n, format="csc") if is_sparse else np.eye(n)
-
-
-def _base(W: Any, r: float, CtC: Any, is_sparse: bool) -> Any:
-    """``W + r CtC`` (``W`` when ``r`` is 0 or there is no ``CtC``)."""
-    return _plus_scaled(W, r, CtC, is_sparse) if (r != 0.0 and CtC is not None) else W
-
-
-def _shifted(W: Any, delta: float, scale: float, is_sparse: bool, pencil: BandPencil | None = None,
-             r: float = 0.0, CtC: Any = None) -> Any | None:
-    """``W + r CtC + delta I`` when it passes the Cholesky test of the shift ladder, else None; tested on the
-    ``pencil`` of ``W`` and ``CtC`` when given (the sum then formed only when it passes)."""
+def _shift_floor(scale: float, delta: float) -> float:
+    """The smallest pivot ``L_ii^2`` the shift ladder accepts (:data:`SHIFT_PIVOT_ROUNDINGS`)."""
     # (W_ii + delta is exact to eps (|W_ii| + delta): a smaller pivot may be a zero eigenvalue, which a delta
     # of a power of ten times max|W_ii| meets exactly where W's most negative eigenvalue is -max|W_ii|)
-    floor = SHIFT_PIVOT_ROUNDINGS * np.finfo(float).eps * (scale + delta)
-    if pencil is not None:
-        if not pencil.positive_definite(r, delta, floor):
-            return None
-        return _sorted(_base(W, r, CtC, True) + delta * _eye(W.shape[0], True), True)
-    B = _sorted(_base(W, r, CtC, is_sparse) + delta * _eye(W.shape[0], is_sparse), is_sparse)
-    return _accepted(B, is_sparse, floor)
+    return SHIFT_PIVOT_ROUNDINGS * np.finfo(float).eps * (scale + delta)
+
+
+def _formed(W: Any, r: float, CtC: Any, delta: float, is_sparse: bool) -> Any:
+    """``W + r CtC + delta I`` (``r CtC`` left out when ``r`` is 0 or there is no ``CtC``), sorted CSC when
+    sparse."""
+    base = _plus_scaled(W, r, CtC, is_sparse) if (r != 0.0 and CtC is not None) else W
+    eye = sp.identity(W.shape[0], format="csc") if is_sparse else np.eye(W.shape[0])
+    return _sorted(base + delta * eye, is_sparse)
 
 
 #: The augmented-Lagrangian weight under an identity shift (:func:`shifted_augmented`) starts at this many times the
@@ -303,23 +298,25 @@ def shifted_augmented(W: Any, C: Any, shift: float) -> tuple[Any, float, float]:
         return _shift_ladder(W, shift, scale, is_sparse, BandPencil.of(W) if is_sparse else None)
     r = SHIFTED_WEIGHT * AL_WEIGHT_START * scale / base
     pencil = BandPencil.of(W, CtC) if is_sparse else None
-    if pencil is not None:
-        B, delta, _ = _shift_ladder(W, shift, scale, is_sparse, pencil, r, CtC)
-    else:
-        B, delta, _ = _shift_ladder(_plus_scaled(W, r, CtC, is_sparse), shift, scale, is_sparse)
-    weight = r
+    B, delta, _ = _shift_ladder(W, shift, scale, is_sparse, pencil, r, CtC)
+    weight, formed = r, True
     for _ in range(SHIFTED_WEIGHT_RUNGS):
         r *= LADDER_GROWTH
-        A = None if pencil is not None else _plus_scaled(W, r, CtC, is_sparse)
         # (one test a weight while a tenth of the shift still fails; where it passes, tenfold smaller shifts while
-        # they pass too: the lowest eigenvalue rises with the weight)
+        # they pass too: the lowest eigenvalue rises with the weight; with a pencil the matrix is formed at the end)
         while delta / LADDER_GROWTH >= max(SHIFT_START * scale, SHIFT_CONDITION * (scale + r * base)):
-            accepted = (_shifted(W, delta / LADDER_GROWTH, scale, is_sparse, pencil, r, CtC) if pencil is not None
-                        else _shifted(A, delta / LADDER_GROWTH, scale, is_sparse))
-            if accepted is None:
-                break
-            B, delta, weight = accepted, delta / LADDER_GROWTH, r
-    return B, delta, weight
+            smaller = delta / LADDER_GROWTH
+            if pencil is not None:
+                if not pencil.positive_definite(r, smaller, _shift_floor(scale, smaller)):
+                    break
+                formed = False
+            else:
+                accepted = _accepted(_formed(W, r, CtC, smaller, is_sparse), is_sparse, _shift_floor(scale, smaller))
+                if accepted is None:
+                    break
+                B = accepted
+            delta, weight = smaller, r
+    return (B if formed else _formed(W, weight, CtC, delta, True)), delta, weight
 
 
 #: A test of :func:`_indefinite_first` within this relative distance of its threshold is left to the Cholesky test

@@ -177,8 +177,12 @@ AL_WEIGHT_START = 1e-3
 #: Wright, Algorithm 3.3, with their factor 10).
 LADDER_GROWTH = 10.0
 
-#: Rungs of the weight's ladder (weights up to 1e11 times the first) before the identity shift takes over.
-AL_WEIGHT_RUNGS = 12
+#: Rungs of the weight's ladder (weights up to 1e9 times the first, ``r max|C^T C_ii|`` up to 1e6 ``max|W_ii|``) before
+#: the identity shift takes over. A ``W`` barely convex on the rows' null space can need a weight past that, whose
+#: model then has a condition of ~1e15 on which every QP backend fails: with 12 rungs (weights to 1e11 times the
+#: first) one start of the aortic arch's multi-start cold solve at 240 bars reached 1.1e12 every other iteration,
+#: each such QP failed in all backends and in its elastic form (5-8 s), and the solve took 54.6 s instead of 1.9 s.
+AL_WEIGHT_RUNGS = 10
 
 #: A solve that needed a weight ``rho`` last time starts from ``rho / WEIGHT_DECAY`` on a dense ``W``, and one that
 #: needed a shift from ``shift / WEIGHT_DECAY``: the Hessian drifts slowly between iterations, so a quarter of the
@@ -205,11 +209,15 @@ def _augmented_ladder(W: Any, CtC: Any, rho: float, rungs: int, scale: float,
     r *= LADDER_GROWTH**rungs  # (the same numbers as growing it tenfold: rungs is 0 or 1)
     pencil = BandPencil.of(W, CtC) if is_sparse else None
     for _ in range(max_rungs - rungs):
+        # (a pivot within roundings of the weighted entries is no evidence of definiteness: with W indefinite on the
+        # rows' null space no weight makes W + r C^T C positive definite, but a weight large enough passes a bare
+        # Cholesky test on rounding-sized pivots, and the QP backends then fail on a model of condition ~1e17)
+        floor = _shift_floor(scale, r * base)
         if pencil is not None:  # (tested in band storage; the sparse sum formed for the weight that passes)
-            if pencil.positive_definite(r):
+            if pencil.positive_definite(r, 0.0, floor):
                 return _sorted(_plus_scaled(W, r, CtC, True), True), 0.0, r
         else:
-            B = _accepted(_sorted(_plus_scaled(W, r, CtC, is_sparse), is_sparse), is_sparse)
+            B = _accepted(_sorted(_plus_scaled(W, r, CtC, is_sparse), is_sparse), is_sparse, floor)
             if B is not None:
                 return B, 0.0, r
         r *= LADDER_GROWTH

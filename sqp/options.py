@@ -110,7 +110,7 @@ class Options:
     augmented_rungs : int or None
         With exact Hessians, how many weights of the augmented-Lagrangian ladder (each tenfold the last, from
         :data:`sqp.hessian.AL_WEIGHT_START`) are tried before an identity shift is added on top of the term
-        (:func:`sqp.hessian.shifted_augmented`); None (the default): :data:`sqp.hessian.AL_WEIGHT_RUNGS` (12), then
+        (:func:`sqp.hessian.shifted_augmented`); None (the default): :data:`sqp.hessian.AL_WEIGHT_RUNGS` (10), then
         a shift of ``W`` alone on the inequality path. Large weights certify a Hessian whose curvature on the held
         rows' null space is tiny, but leave the QP ill-conditioned: on the guidewire's compressed wires in the
         full-space vessel program (S-bend and tortuous vessels, 320-800 bars) the full ladder reached model

@@ -71,7 +71,7 @@ def run(scene: Scene, options: SolveOptions) -> Solution:
             return first
         limit = candidate_iterations(first, options.max_iter)
         candidate = replace(options, initial_nodes=None, multipliers0=None, reuse=None, max_iter=limit,
-                            round_iterations=limit)
+                            round_iterations=limit, dense_retry=False)
 
         def solve_from(x0: Any) -> Solution:
             return solve_once(scene, replace(candidate, initial_angles=x0), time.perf_counter())
@@ -96,7 +96,8 @@ def solve_once(scene: Scene, options: SolveOptions, start: float) -> Solution:
     ``min(max_iter, max(FALLBACK_MIN_ITER, max_iter // 5))`` iterations). A vessel scene in the full space by the
     automatic choice gets :data:`FULL_VESSEL_ITER` iterations a round there, then the reduced program, with
     :data:`DENSE_FALLBACK_ITER` iterations over its rounds (its damped-BFGS retry too); neither reduced retry is made
-    when the dense program does not fit in memory (the message says so). ``start`` is when the clock started."""
+    when the dense program does not fit in memory, nor for a candidate start (``options.dense_retry``; the message
+    says which). ``start`` is when the clock started."""
     n_bars = scene.wire.bars if options.bars is None else options.bars
     layout = options.layout
     if layout == "auto":
@@ -109,10 +110,12 @@ def solve_once(scene: Scene, options: SolveOptions, start: float) -> Solution:
     failed = not res.success
     dense = not failed or scene.vessel is None or fits_memory(form.model.n, "reduced")
     fallback_budget = DENSE_FALLBACK_ITER if tried and failed else None
-    if tried and failed and dense:
+    if tried and failed and dense and options.dense_retry:
         form, res, settled = _solve_in(scene, options, "reduced", minimize_options, runs, fallback_budget)
     answer, fallback, message = form, None, None
-    if options.hessian == "exact" and res.status in FALLBACK_STATUSES and not dense:
+    if tried and failed and not options.dense_retry:
+        message = f"{res.message} (a candidate start: no retry in the dense program)"
+    elif options.hessian == "exact" and res.status in FALLBACK_STATUSES and not dense:
         message = (f"{res.message} (no {FALLBACK} retry: the dense program of bar angles needs about "
                    f"{program_bytes(form.model.n, 'reduced') / 2**30:.1f} GiB, more than the memory available)")
     elif options.hessian == "exact" and res.status in FALLBACK_STATUSES:

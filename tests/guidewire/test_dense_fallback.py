@@ -40,3 +40,30 @@ def test_the_dense_fallback_stops_within_its_budget_and_reaches_the_full_space_a
     monkeypatch.setattr(PIPELINE, "DENSE_FALLBACK_ITER", 2)
     cut = guidewire.solve(scene, branches="first")
     assert cut.iterations <= PIPELINE.MAX_ROUNDS * 1 + 2 + 2
+
+
+
+def test_a_candidate_start_that_fails_in_the_full_space_is_dropped_not_solved_densely(monkeypatch):
+    """``branches="lowest"`` on the aortic arch at 240 mm and 480 bars: a candidate start whose full-space solve
+    fails is dropped, not retried in the dense program (O(n³) an iteration: at 960 bars one such retry took 65 s and
+    ended rejected); the answer is the lowest of the starts that succeeded."""
+    scene = _scene("aortic_arch", 240.0, 480)
+    calls, answers = [], []
+    solve_in, solve_once = PIPELINE._solve_in, PIPELINE.solve_once
+
+    def spied_in(scene, options, layout, *args, **kwargs):
+        calls.append((layout, options.dense_retry))
+        return solve_in(scene, options, layout, *args, **kwargs)
+
+    def spied_once(*args, **kwargs):
+        answers.append(solve_once(*args, **kwargs))
+        return answers[-1]
+
+    monkeypatch.setattr(PIPELINE, "_solve_in", spied_in)
+    monkeypatch.setattr(PIPELINE, "solve_once", spied_once)
+    lowest = guidewire.solve(scene)
+    candidates = answers[1:]
+    dropped = [a for a in candidates if not a.success]
+    assert dropped and all("no retry in the dense program" in a.message for a in dropped)
+    assert {layout for layout, retry in calls if not retry} == {"full"}
+    assert lowest.success and lowest.energy == min(a.energy for a in answers if a.success)

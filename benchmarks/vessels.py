@@ -13,11 +13,15 @@ our warm start of that step. Its time is the ``minimize_ipopt`` call. Answers ar
 at the final length (ours from the default start only, ``branches="first"``: the multi-start of a branched vessel
 would time three more starts than IPOPT gets; IPOPT on our final rows from that start) is timed too.
 
-Goals (from the vessel issue): per step ≤ 2 ms median at 100 bars and ≥ 3× faster than warm-started IPOPT; the
-whole 250 mm arch insertion at 1 mm steps in ≤ 1 s; no step slower than 10× the median.
+A second table times insertion steps of wires of about 1 000 bars (:data:`FINE`: a few 1 mm steps at a fine bar
+density, started by a cold solve with the default ``branches="lowest"``), against warm-started IPOPT the same way.
 
-Usage: ``python benchmarks/vessels.py [--quick] [--step MM] [--out DIR]``; writes ``vessels.{md,csv,png}``
-(``vessels_quick.*`` with ``--quick``). BLAS is pinned to one thread.
+Goals (from the vessel issue): per step ≤ 1 ms median at 100 bars and ≤ 3 ms at 1 000 bars, ≥ 3× faster than
+warm-started IPOPT; the whole 250 mm arch insertion at 1 mm steps in ≤ 0.5 s; no step slower than 10× the median.
+
+Usage: ``python benchmarks/vessels.py [--quick] [--step MM] [--no-fine] [--out DIR]``; writes
+``vessels.{md,csv,png}`` and ``vessels_fine.csv`` (``vessels_quick.*`` with ``--quick``, which skips the fine
+wires). BLAS is pinned to one thread.
 """
 
 from __future__ import annotations
@@ -41,6 +45,8 @@ VESSELS = Path(__file__).resolve().parents[1] / "guidewire" / "scenes" / "vessel
 SPANS = {"bend": 90.0, "tortuous": 45.0, "aortic_arch": 250.0}
 QUICK_SPANS = {"bend": 40.0, "tortuous": 25.0}
 FIRST = 5.0
+#: Wires of about 1 000 bars: (vessel, first inserted length in mm, bars per mm, 1 mm steps after the first).
+FINE = {"bend": (80.0, 12.5, 8), "tortuous": (40.0, 25.0, 8), "aortic_arch": (240.0, 4.0, 8)}
 
 
 def insertion(name: str, span: float, step: float, ipopt: bool) -> tuple[list[dict[str, Any]], dict[str, Any]]:
@@ -48,6 +54,21 @@ def insertion(name: str, span: float, step: float, ipopt: bool) -> tuple[list[di
     density = scene.wire.bars / scene.wire.length
     lengths = np.arange(FIRST, span + 0.5 * step, step)
     start = scene.with_wire(length=FIRST, bars=max(1, round(FIRST * density)))
+    rows, total, last = steps(name, start, lengths, ipopt)
+    cold = guidewire.solve(last, branches="first")
+    summary: dict[str, Any] = {"vessel": name, "steps": len(rows), "total_s": total,
+                               "cold_ms": 1e3 * cold.solve_time_s, "cold_energy": cold.energy,
+                               "cold_ipopt_ms": math.nan}
+    if ipopt and cold.success:
+        res = run_ipopt(step_problem(cold, guidewire.formulate(last).x0))
+        summary["cold_ipopt_ms"] = 1e3 * res["time"]
+    return rows, summary
+
+
+def steps(name: str, start: guidewire.Scene, lengths: Any,
+          ipopt: bool) -> tuple[list[dict[str, Any]], float, guidewire.Scene]:
+    """Insert ``start``'s wire through ``lengths`` (its bar density kept): a row per step (ours, and IPOPT from
+    our warm start on our last round's rows), the insertion's wall time (s) and its last step's scene."""
     wall = time.perf_counter()
     out = guidewire.insert(start, lengths)
     total = time.perf_counter() - wall
@@ -64,15 +85,29 @@ def insertion(name: str, span: float, step: float, ipopt: bool) -> tuple[list[di
             res = run_ipopt(prob)
             row.update(ipopt_ms=1e3 * res["time"], ipopt_energy=float(res["f"]) if res["success"] else math.nan)
         rows.append(row)
-    last = out.steps[-1]
-    cold = guidewire.solve(last.scene, branches="first")
-    summary: dict[str, Any] = {"vessel": name, "steps": len(out.steps), "total_s": total,
-                               "cold_ms": 1e3 * cold.solve_time_s, "cold_energy": cold.energy,
-                               "cold_ipopt_ms": math.nan}
-    if ipopt and cold.success:
-        res = run_ipopt(step_problem(cold, guidewire.formulate(last.scene).x0))
-        summary["cold_ipopt_ms"] = 1e3 * res["time"]
-    return rows, summary
+    return rows, total, out.steps[-1].scene
+
+
+def fine_table(rows: list[dict[str, Any]]) -> list[str]:
+    """The table of the ~1 000-bar wires' steps (the first, a cold solve, left out of the statistics)."""
+    header = ["vessel", "bars", "steps", "solved", "cold ms", "ours median ms/step", "ours max ms", "median it",
+              "IPOPT median ms/step", "IPOPT/ours (geo. mean)", "same energy"]
+    table = []
+    for name in dict.fromkeys(r["vessel"] for r in rows):
+        mine = [r for r in rows if r["vessel"] == name]
+        ours = np.array([r["ours_ms"] for r in mine[1:]])
+        ip = np.array([r["ipopt_ms"] for r in mine[1:]])
+        both = np.isfinite(ip)
+        ratio = float(np.exp(np.mean(np.log(ip[both] / ours[both])))) if both.any() else math.nan
+        compared = [r for r in mine[1:] if np.isfinite(r["ipopt_energy"])]
+        same = sum(abs(r["energy"] - r["ipopt_energy"]) <= 1e-6 * max(abs(r["energy"]), 1e-3) for r in compared)
+        table.append([name, f"{mine[1]['bars']}-{mine[-1]['bars']}", len(mine) - 1,
+                      sum(r["success"] for r in mine[1:]), cell(mine[0]["ours_ms"]), cell(np.median(ours)),
+                      cell(ours.max()), cell(np.median([r["iterations"] for r in mine[1:]])),
+                      cell(np.median(ip[both])) if both.any() else "-", cell(ratio), f"{same}/{len(compared)}"])
+    return ["## Insertion steps of wires of about 1 000 bars", "",
+            "1 mm steps at a fine bar density after a cold solve (default `branches=\"lowest\"`), IPOPT from our warm "
+            "start of each step on our last round's rows, as above.", "", *markdown_table(header, table), ""]
 
 
 def report(rows: list[dict[str, Any]], summaries: list[dict[str, Any]], step: float) -> list[str]:
@@ -107,6 +142,7 @@ def main() -> None:
     ap = parser(__doc__, quick_help="bend and tortuous, shorter spans, 5 mm steps", repeats=1)
     ap.add_argument("--step", type=float, default=1.0, help="insertion step (mm)")
     ap.add_argument("--no-ipopt", action="store_true", help="ours only")
+    ap.add_argument("--no-fine", action="store_true", help="skip the ~1 000-bar wires")
     args = parse(ap)
     step = 5.0 if args.quick else args.step
     spans = QUICK_SPANS if args.quick else SPANS
@@ -120,8 +156,16 @@ def main() -> None:
             rows += r
             summaries.append(summ)
             print(f"{name}: {summ['steps']} steps in {summ['total_s']:.2f} s", flush=True)
+        fine: list[dict[str, Any]] = []
+        for name, (first, density, count) in ({} if (args.quick or args.no_fine) else FINE).items():
+            scene = guidewire.load_scene(VESSELS / f"{name}.toml")
+            start = scene.with_wire(length=first, bars=round(first * density))
+            fine += steps(name, start, first + np.arange(count + 1.0), ipopt)[0]
+            print(f"{name} at {density:g} bars/mm: {count} steps", flush=True)
     stem = output_stem(args.out, "vessels", args.quick)
-    lines = report(rows, summaries, step)
+    lines = report(rows, summaries, step) + (fine_table(fine) if fine else [])
+    if fine:
+        write_csv(fine, stem.with_name(stem.name + "_fine").with_suffix(".csv"))
     write_markdown(lines, stem.with_suffix(".md"))
     write_csv(rows, stem.with_suffix(".csv"))
     plt = pyplot()

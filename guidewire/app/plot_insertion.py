@@ -40,9 +40,31 @@ def plot_insertion(insertion: Insertion) -> Any:
     failed = [s.scene.wire.length for s in steps if not s.success]
     if failed:
         ax_force.plot(failed, np.zeros(len(failed)), "x", color="firebrick", label="failed step")
+    readable_axis(ax_force, force)
+    readable_axis(ax_energy, energy)
     ax_force.grid(True, lw=0.3, alpha=0.5)
     ax_force.set_title("push and energy along the insertion", fontsize=9)
     return fig
+
+
+#: A series whose spread is at most this fraction of its size is drawn flat (:func:`readable_axis`).
+FLAT_SPREAD = 1e-6
+
+
+def readable_axis(ax: Any, values: Any) -> None:
+    """Plain tick labels on ``ax``'s y axis (no offset such as ``1e-7 - 1.179e-3``), and a series flat to
+    :data:`FLAT_SPREAD` of its size shown flat, ±10 % around it: its changes are the solves' rounding (a free tip
+    extended straight keeps the push and the energy to ~1e-9), which autoscaling would blow up into a trend."""
+    ax.ticklabel_format(axis="y", useOffset=False)
+    finite = np.asarray(values, dtype=float)
+    finite = finite[np.isfinite(finite)]
+    if not finite.size:
+        return
+    lo, hi = float(finite.min()), float(finite.max())
+    size = max(abs(lo), abs(hi))
+    if hi - lo <= FLAT_SPREAD * size:
+        pad = 0.1 * size if size > 0.0 else 1.0
+        ax.set_ylim(lo - pad, hi + pad)
 
 
 #: The stress colour scale of an animation spans at least this (MPa).

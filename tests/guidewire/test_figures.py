@@ -6,6 +6,7 @@ from dataclasses import replace
 from importlib import resources
 
 import matplotlib.colors as mcolors
+import numpy as np
 import pytest
 
 import guidewire
@@ -87,3 +88,24 @@ def test_overlaid_shapes_are_named_and_the_pose_labels_drawn_once():
     assert names == sorted([r"$\theta_{B}$ = −π/2", r"$\theta_{B}$ = −π/4", r"$\theta_{B}$ = 0",
                             r"$\theta_{B}$ = π/4", r"$\theta_{B}$ = π/2"])
     assert texts.count("A") == 1 and texts.count("B") == 1
+
+
+@pytest.mark.parametrize("value", [-1.179e-3, 6.48, 250.0])
+def test_a_series_flat_to_rounding_is_drawn_flat_and_a_trend_is_not(value):
+    """The insertion figure's push and energy axes: changes at the solves' rounding (1e-9 of the value, a free tip
+    extended straight) are shown flat, ±10 % around the value, not autoscaled into a trend; a 1 % trend keeps
+    matplotlib's own limits; no offset notation either way."""
+    from matplotlib.figure import Figure
+
+    from guidewire.app.plot_insertion import readable_axis
+
+    flat = value * (1.0 + 1e-9 * np.array([0.0, 3.0, -2.0, 1.0]))
+    trend = value * (1.0 + 1e-2 * np.arange(4.0))
+    for series, drawn_flat in ((flat, True), (trend, False)):
+        ax = Figure().subplots()
+        ax.plot(np.arange(4.0), series)
+        readable_axis(ax, series)
+        lo, hi = ax.get_ylim()
+        assert (hi - lo >= 0.19 * abs(value)) == drawn_flat
+        assert lo <= series.min() and series.max() <= hi
+        assert not ax.yaxis.get_major_formatter().get_useOffset()

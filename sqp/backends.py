@@ -72,8 +72,8 @@ def elastic_backends(
 RETRY_QP_OPTIONS: dict[str, list[dict[str, Any]]] = {
     "osqp": [{"eps_abs": 1e-7, "eps_rel": 1e-7}, {"eps_abs": 1e-5, "eps_rel": 1e-5, "max_iter": 20000}],
     "proxqp": [{"eps_abs": 1e-7}],
-    # (PIQP: its stalls are not tolerance-bound, a looser one stalls alike; iterative refinement of every KKT solve
-    # solves some of them: the aortic arch's at 3 200 bars that stalled with 3 passes of equilibration)
+    # (PIQP: its stalls are not tolerance-bound, a looser one stalls alike, and one run out of iterations is not
+    # retried at all, :func:`sqp.qp_call._ran_out`; iterative refinement of every KKT solve, for its other failures)
     "piqp": [{"iterative_refinement_always_enabled": True}],
     "clarabel": [{"tol_gap_abs": 1e-7, "tol_gap_rel": 1e-7, "tol_feas": 1e-7}],
 }

@@ -58,6 +58,16 @@ across the rows; since it covers the reduced Hessian only (:func:`sqp.hessian.sh
 same iterations there (488 for the 115 steps, 23 at the snap), as on every step of the straight wire, the S-bend and
 the arch."""
 
+STALL_ITERATIONS = 15
+STALL_DECREASE = 0.9
+STALL_VIOLATION = 1e-3
+"""A round is also ended early, and re-centred, when its iterates have turned some bar past :data:`RECENTRE_ANGLE`
+and their largest constraint violation, still above ``STALL_VIOLATION`` times the length scale, has not fallen below
+``STALL_DECREASE`` times its least value for ``STALL_ITERATIONS`` iterations: the QPs are inconsistent there (elastic
+mode) and the iterates sit at a local minimum of the violation in this chart. The J wire's cold solve in the helix at
+100 mm (200 bars) sat at a violation of 20 mm, a bar turned 94°, from iteration 12 to the round's limit of 300
+(31 s); re-centred, the next round converged in 11."""
+
 SPARSE_FALLBACKS = ("clarabel",)
 
 PIQP_OPTIONS = {"preconditioner_iter": 0}
@@ -146,11 +156,22 @@ class _ChartLimit:
     def __init__(self, program: Program) -> None:
         self.program = program
         self.limit = float(np.tan(CHART_LIMIT_ANGLE / 2))
+        self.recentre = float(np.tan(RECENTRE_ANGLE / 2))
         self.reached = False
+        self.least = np.inf  # (the least violation of the round so far, and when it was reached)
+        self.since = 0
 
     def __call__(self, intermediate_result: Any) -> None:
         omega = np.reshape(intermediate_result.x, (self.program.n, self.program.width))[:, :3]
-        if float(np.max(np.einsum("ij,ij->i", omega, omega), initial=0.0)) > self.limit * self.limit:
+        turned = float(np.max(np.einsum("ij,ij->i", omega, omega), initial=0.0))
+        violation = float(intermediate_result.maxcv)
+        if violation < STALL_DECREASE * self.least:
+            self.least, self.since = violation, 0
+        else:
+            self.since += 1
+        stalled = (self.since >= STALL_ITERATIONS and violation > STALL_VIOLATION * self.program.scale
+                   and turned > self.recentre * self.recentre)
+        if turned > self.limit * self.limit or stalled:
             self.reached = True
             raise StopIteration
 

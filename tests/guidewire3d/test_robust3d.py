@@ -3,6 +3,7 @@ turned in a curved tube until its tip snaps (the failures of ``benchmarks/pyelas
 
 from __future__ import annotations
 
+import importlib
 import math
 
 import numpy as np
@@ -103,3 +104,70 @@ def test_turned_j_wire_snaps_past_the_fold_and_turns_on(bars):
         force, moment = s.balance()
         scale = max(1.0, abs(s.entrance_force))
         assert force < 1e-7 * scale and moment < 1e-6 * scale * 50.0
+
+
+class _Iterate:
+    """What the engine hands a callback: the iterate and its largest violation."""
+
+    def __init__(self, x: np.ndarray, maxcv: float) -> None:
+        self.x, self.maxcv = x, maxcv
+
+
+def _chart_limit(turn: float) -> tuple[object, np.ndarray]:
+    """A round's callback on a 20-bar program, and an iterate whose first bar is turned by ``turn`` (rad)."""
+    from guidewire.solve3d.program import Program
+    from guidewire.solve3d.solve import _ChartLimit, _first_frames
+
+    scene = _scene(20.0, 20, SOFT)
+    program = Program.build(scene, _first_frames(scene, None, None))
+    z = program.start().reshape(program.n, program.width).copy()
+    z[0, :3] = [math.tan(turn / 2.0), 0.0, 0.0]
+    return _ChartLimit(program), z.ravel()
+
+
+@pytest.mark.parametrize("turn_deg", [60.0, 100.0, 130.0])
+@pytest.mark.parametrize("violation", [1e-6, 20.0])
+def test_a_round_stalled_far_out_of_the_lumen_is_ended_only_past_the_recentre_angle(turn_deg, violation):
+    """The callback ends a round whose violation stays above ``STALL_VIOLATION`` of the length scale, without
+    falling by ``STALL_DECREASE``, for ``STALL_ITERATIONS`` iterations, once some bar turned past ``RECENTRE_ANGLE``
+    (re-centring can then help): not before, not for a violation that still falls or is small, not below that
+    angle."""
+    solve_module = importlib.import_module("guidewire.solve3d.solve")
+
+    turn = math.radians(turn_deg)
+    stalls = turn > solve_module.RECENTRE_ANGLE and violation > solve_module.STALL_VIOLATION * 20.0
+    limit, x = _chart_limit(turn)
+    for k in range(solve_module.STALL_ITERATIONS):
+        limit(_Iterate(x, violation * (1.0 + 1e-3 * (k % 3))))  # (noise, no decrease)
+    assert not limit.reached
+    if stalls:
+        with pytest.raises(StopIteration):
+            limit(_Iterate(x, violation))
+        assert limit.reached
+    else:
+        limit(_Iterate(x, violation))
+        assert not limit.reached
+    falling, x = _chart_limit(turn)
+    for k in range(3 * solve_module.STALL_ITERATIONS):
+        falling(_Iterate(x, violation * 0.85**k))
+    assert not falling.reached
+
+
+def test_the_j_wire_cold_in_the_helix_at_100_mm_leaves_its_stalled_round():
+    """The shipped J wire's cold solve in the helix at 100 mm and 200 bars: its first round sat 20 mm out of the
+    lumen from iteration 12 to the round's limit of 300 (31 s); it is re-centred once stalled, and the answer is a
+    minimum: a warm solve from it takes at most two iterations and keeps its energy."""
+    from importlib import resources
+
+    from guidewire.solve3d.file import load_scene
+    from guidewire.solve3d.insert import scene_at
+
+    shipped = load_scene(str(resources.files("guidewire") / "scenes" / "vessels3d" / "helix_j.toml"))
+    scene = scene_at(shipped, 100.0, 0.0, shipped.wire.bars / shipped.wire.length)
+    assert scene.wire.bars == 200
+    first = solve3d(scene)
+    assert first.success and first.rounds >= 2 and first.iterations < 100
+    again = solve3d(scene, initial_frames=first.quaternions)
+    assert again.success and again.iterations <= 2
+    energy = first.bending_energy + first.twist_energy
+    assert abs(again.bending_energy + again.twist_energy - energy) <= 1e-9 * energy

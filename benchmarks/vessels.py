@@ -88,6 +88,18 @@ def steps(name: str, start: guidewire.Scene, lengths: Any,
     return rows, total, out.steps[-1].scene
 
 
+def _step_statistics(steps: list[dict[str, Any]]) -> tuple[np.ndarray, str, float, str]:
+    """Our times (ms) of ``steps``, IPOPT's median time (a cell), the geometric mean of IPOPT's time over ours and
+    how many of the steps IPOPT solved end at our energy (to 1e-6 relative, or 1e-9 N·mm)."""
+    ours = np.array([r["ours_ms"] for r in steps])
+    ip = np.array([r["ipopt_ms"] for r in steps])
+    both = np.isfinite(ip)
+    ratio = float(np.exp(np.mean(np.log(ip[both] / ours[both])))) if both.any() else math.nan
+    compared = [r for r in steps if np.isfinite(r["ipopt_energy"])]
+    same = sum(abs(r["energy"] - r["ipopt_energy"]) <= 1e-6 * max(abs(r["energy"]), 1e-3) for r in compared)
+    return ours, cell(np.median(ip[both])) if both.any() else "-", ratio, f"{same}/{len(compared)}"
+
+
 def fine_table(rows: list[dict[str, Any]]) -> list[str]:
     """The table of the ~1 000-bar wires' steps (the first, a cold solve, left out of the statistics)."""
     header = ["vessel", "bars", "steps", "solved", "cold ms", "ours median ms/step", "ours max ms", "median it",
@@ -95,16 +107,11 @@ def fine_table(rows: list[dict[str, Any]]) -> list[str]:
     table = []
     for name in dict.fromkeys(r["vessel"] for r in rows):
         mine = [r for r in rows if r["vessel"] == name]
-        ours = np.array([r["ours_ms"] for r in mine[1:]])
-        ip = np.array([r["ipopt_ms"] for r in mine[1:]])
-        both = np.isfinite(ip)
-        ratio = float(np.exp(np.mean(np.log(ip[both] / ours[both])))) if both.any() else math.nan
-        compared = [r for r in mine[1:] if np.isfinite(r["ipopt_energy"])]
-        same = sum(abs(r["energy"] - r["ipopt_energy"]) <= 1e-6 * max(abs(r["energy"]), 1e-3) for r in compared)
+        ours, ip_median, ratio, agree = _step_statistics(mine[1:])
         table.append([name, f"{mine[1]['bars']}-{mine[-1]['bars']}", len(mine) - 1,
                       sum(r["success"] for r in mine[1:]), cell(mine[0]["ours_ms"]), cell(np.median(ours)),
-                      cell(ours.max()), cell(np.median([r["iterations"] for r in mine[1:]])),
-                      cell(np.median(ip[both])) if both.any() else "-", cell(ratio), f"{same}/{len(compared)}"])
+                      cell(ours.max()), cell(np.median([r["iterations"] for r in mine[1:]])), ip_median,
+                      cell(ratio), agree])
     return ["## Insertion steps of wires of about 1 000 bars", "",
             "1 mm steps at a fine bar density after a cold solve (default `branches=\"lowest\"`), IPOPT from our warm "
             "start of each step on our last round's rows, as above.", "", *markdown_table(header, table), ""]
@@ -117,17 +124,11 @@ def report(rows: list[dict[str, Any]], summaries: list[dict[str, Any]], step: fl
     table = []
     for summ in summaries:
         mine = [r for r in rows if r["vessel"] == summ["vessel"]]
-        ours = np.array([r["ours_ms"] for r in mine[1:]])
-        ip = np.array([r["ipopt_ms"] for r in mine[1:]])
-        both = np.isfinite(ip)
-        ratio = float(np.exp(np.mean(np.log(ip[both] / ours[both])))) if both.any() else math.nan
-        compared = [r for r in mine[1:] if np.isfinite(r["ipopt_energy"])]
-        same = sum(abs(r["energy"] - r["ipopt_energy"]) <= 1e-6 * max(abs(r["energy"]), 1e-3) for r in compared)
-        agree = f"{same}/{len(compared)}"
+        ours, ip_median, ratio, agree = _step_statistics(mine[1:])
         table.append([summ["vessel"], summ["steps"], sum(r["success"] for r in mine), cell(np.median(ours)),
                       cell(ours.max()), cell(ours.max() / np.median(ours)),
                       cell(np.median([r["iterations"] for r in mine[1:]])), cell(summ["total_s"]),
-                      cell(np.median(ip[both])) if both.any() else "-", cell(ratio), agree,
+                      ip_median, cell(ratio), agree,
                       cell(summ["cold_ms"]), cell(summ["cold_ipopt_ms"])])
     return [f"# Insertion through the shipped vessels ({step:g} mm steps, 1 bar per mm)", "",
             *(f"- {line}" for line in env.environment()), "",

@@ -87,3 +87,13 @@ def test_route_starts_follow_each_reachable_branch():
             _, tangent = arch.vessel.route(s_mid, b)
             assert np.allclose(np.cos(angles), np.cos(tangent)) and np.allclose(np.sin(angles), np.sin(tangent))
     assert route_starts(_scene("bend")) == []
+
+
+@pytest.mark.parametrize("length", [22.5, 27.0])
+def test_coarse_bars_in_the_tortuous_vessel_settle_within_the_rounds(length):
+    """2 mm bars in the tortuous coronary vessel: the lumen rows move towards the answer's wall points by a ratio of
+    ~0.18 a round, so the rows need 9-10 rounds to fit the answer to the solve's tolerance (8 rejected both lengths);
+    the answer is accepted, every node inside the lumen."""
+    scene = guidewire.load_scene(str(VESSELS / "tortuous.toml"))
+    sol = guidewire.solve(scene.with_wire(length=length, bars=round(0.5 * length)), branches="first")
+    assert sol.success and 8 < sol.rounds <= PIPELINE.MAX_ROUNDS

@@ -30,7 +30,7 @@ DEFAULT_QP_OPTIONS: dict[str, dict[str, Any]] = {
     # solve at 400 bars; at 100 the same QPs are solved and the failures cost 0.4 of their time.
     # Its Ruiz equilibration (``preconditioner_iter``, default 10 passes): on the compressed vessel programs at
     # 1 600-3 200 bars (9 600 variables, model Hessian diagonal 3e3-8e7) the QPs it could not solve stalled at a dual
-    # residual ~1e-2 for all 100 iterations; with 3 passes (0 does as well) they are solved in 14-29 iterations: of 116
+    # residual ~1e-2 for all 100 iterations; with 3 passes (0 about as well) they are solved in 14-29 iterations: of 116
     # full-space QPs captured from the shipped vessels' cold solves at 400-3 200 bars, 101 → 114 solved, their time
     # 5.9 → 3.8 s; the ones solved either way take about as many iterations
     "piqp": {"eps_abs": 1e-10, "eps_rel": 1e-12, "max_iter": 100, "preconditioner_iter": 3},

@@ -212,7 +212,7 @@ def _augmented_ladder(W: Any, CtC: Any, rho: float, rungs: int, scale: float,
         # (a pivot within roundings of the weighted entries is no evidence of definiteness: with W indefinite on the
         # rows' null space no weight makes W + r C^T C positive definite, but a weight large enough passes a bare
         # Cholesky test on rounding-sized pivots, and the QP backends then fail on a model of condition ~1e17)
-        floor = _shift_floor(scale, r * base)
+        floor = _pivot_floor(scale, r * base)
         if pencil is not None:  # (tested in band storage; the sparse sum formed for the weight that passes)
             if pencil.positive_definite(r, 0.0, floor):
                 return _sorted(_plus_scaled(W, r, CtC, True), True), 0.0, r
@@ -239,10 +239,10 @@ def _shift_ladder(W: Any, shift: float, scale: float, is_sparse: bool, pencil: B
     delta = max(shift / WEIGHT_DECAY, SHIFT_START * scale)
     for _ in range(SHIFT_RUNGS):
         if pencil is not None:
-            if pencil.positive_definite(r, delta, _shift_floor(scale, delta)):
+            if pencil.positive_definite(r, delta, _pivot_floor(scale, delta)):
                 return _formed(W, r, CtC, delta, True), delta, 0.0
         else:
-            accepted = _accepted(_formed(W, r, CtC, delta, is_sparse), is_sparse, _shift_floor(scale, delta))
+            accepted = _accepted(_formed(W, r, CtC, delta, is_sparse), is_sparse, _pivot_floor(scale, delta))
             if accepted is not None:
                 return accepted, delta, 0.0
         delta *= LADDER_GROWTH
@@ -250,8 +250,9 @@ def _shift_ladder(W: Any, shift: float, scale: float, is_sparse: bool, pencil: B
     return _formed(W, r, CtC, delta, is_sparse), delta, 0.0
 
 
-def _shift_floor(scale: float, delta: float) -> float:
-    """The smallest pivot ``L_ii^2`` the shift ladder accepts (:data:`SHIFT_PIVOT_ROUNDINGS`)."""
+def _pivot_floor(scale: float, delta: float) -> float:
+    """The smallest Cholesky pivot ``L_ii^2`` the ladders accept in ``W`` plus a term whose largest diagonal entry is
+    ``delta`` (a shift, or ``r max|C^T C_ii|``): :data:`SHIFT_PIVOT_ROUNDINGS` roundings of the entries."""
     # (W_ii + delta is exact to eps (|W_ii| + delta): a smaller pivot may be a zero eigenvalue, which a delta
     # of a power of ten times max|W_ii| meets exactly where W's most negative eigenvalue is -max|W_ii|)
     return SHIFT_PIVOT_ROUNDINGS * np.finfo(float).eps * (scale + delta)
@@ -315,11 +316,11 @@ def shifted_augmented(W: Any, C: Any, shift: float) -> tuple[Any, float, float]:
         while delta / LADDER_GROWTH >= max(SHIFT_START * scale, SHIFT_CONDITION * (scale + r * base)):
             smaller = delta / LADDER_GROWTH
             if pencil is not None:
-                if not pencil.positive_definite(r, smaller, _shift_floor(scale, smaller)):
+                if not pencil.positive_definite(r, smaller, _pivot_floor(scale, smaller)):
                     break
                 formed = False
             else:
-                accepted = _accepted(_formed(W, r, CtC, smaller, is_sparse), is_sparse, _shift_floor(scale, smaller))
+                accepted = _accepted(_formed(W, r, CtC, smaller, is_sparse), is_sparse, _pivot_floor(scale, smaller))
                 if accepted is None:
                     break
                 B = accepted
@@ -437,6 +438,9 @@ def _positive_definite(B: Any, floor: float = 0.0) -> bool:
     if ab is not None:
         return band_positive_definite(ab, floor)
     B = sp.csc_matrix(B)
+    if not B.has_canonical_format:  # (every entry once)
+        B = B.copy()
+        B.sum_duplicates()
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")

@@ -55,7 +55,12 @@ def lower_band(M: Any) -> Array | None:
     n = M.shape[0]
     if not n or width > BANDED_CHOLESKY_MAX:
         return None
-    ab = np.zeros((int(np.max(offset, initial=0)) + 1, n))
+    return _placed(offset, col, data, int(np.max(offset, initial=0)) + 1, n)
+
+
+def _placed(offset: NDArray[np.intp], col: NDArray[np.intp], data: Array, rows: int, n: int) -> Array:
+    """A ``rows x n`` lower band array holding ``data`` at ``ab[offset, col]``, zeros elsewhere."""
+    ab = np.zeros((rows, n))
     ab.reshape(-1)[offset * n + col] = data
     return ab
 
@@ -78,11 +83,7 @@ class BandPencil:
         if not n or width > BANDED_CHOLESKY_MAX:
             return None
         rows = 1 + max(int(np.max(part[0], initial=0)) for part in parts)
-        bands = []
-        for offset, col, data, _ in parts:
-            ab = np.zeros((rows, n))
-            ab.reshape(-1)[offset * n + col] = data
-            bands.append(ab)
+        bands = [_placed(offset, col, data, rows, n) for offset, col, data, _ in parts]
         return cls(bands[0], bands[1] if CtC is not None else None)
 
     def positive_definite(self, r: float = 0.0, delta: float = 0.0, floor: float = 0.0) -> bool:

@@ -54,7 +54,7 @@ FLAT_SPREAD = 1e-6
 def readable_axis(ax: Any, values: Any) -> None:
     """Plain tick labels on ``ax``'s y axis (no offset such as ``1e-7 - 1.179e-3``), and a series flat to
     :data:`FLAT_SPREAD` of its size shown flat, ±10 % around it: its changes are the solves' rounding (a free tip
-    extended straight keeps the push and the energy to ~1e-9), which autoscaling would blow up into a trend."""
+    extended straight keeps the energy to ~1e-9), which autoscaling would blow up into a trend."""
     ax.ticklabel_format(axis="y", useOffset=False)
     finite = np.asarray(values, dtype=float)
     finite = finite[np.isfinite(finite)]

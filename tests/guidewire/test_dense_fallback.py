@@ -42,7 +42,6 @@ def test_the_dense_fallback_stops_within_its_budget_and_reaches_the_full_space_a
     assert cut.iterations <= PIPELINE.MAX_ROUNDS * 1 + 2 + 2
 
 
-
 def test_a_candidate_start_that_fails_in_the_full_space_is_dropped_not_solved_densely(monkeypatch):
     """``branches="lowest"`` on the aortic arch at 240 mm and 480 bars: a candidate start whose full-space solve
     fails is dropped, not retried in the dense program (O(n³) an iteration: at 960 bars one such retry took 65 s and

@@ -28,6 +28,7 @@ from sqp.termination import (
     infeasibility_stalled,
     kkt_at,
     negligible,
+    settled,
     stalled_status,
 )
 
@@ -36,6 +37,12 @@ Array = NDArray[np.float64]
 #: Consecutive steps below the rounding level of x (:func:`~sqp.termination.negligible`) after which the solve stops
 #: (SMALL_STEP, or ACCEPTABLE by the best multipliers of the stalled point).
 STALL_ITERATIONS = 3
+
+#: Consecutive settled exact-Hessian QP steps (:func:`~sqp.termination.settled`) after which a point that passes the
+#: ACCEPTABLE test ends the solve: the first such step takes Newton's method to rounding's level, whose residual
+#: may still exceed ``tol`` by the Hessian's norm times the step (a hanging chain of 400-1 000 links: SUCCESS one
+#: iteration later); a second one finds the residual where rounding leaves it.
+SETTLED_STEPS = 2
 
 #: A solve ends without a confirming QP when the last QP's multipliers pass the KKT test at the new point with
 #: ``CONFIRMED_TOLERANCE * tol`` (at ``tol`` itself it would stop one Newton step earlier than the confirming QP's
@@ -82,6 +89,7 @@ class Monitor:
         self.feasibility_tol = tol if feasibility_tol is None else feasibility_tol
         self.max_iter = max_iter
         self.stalled = 0  # consecutive negligible steps
+        self.settled_run = 0  # consecutive settled Newton steps (:func:`~sqp.termination.settled`), this one's QP's
         self.best: tuple[KKTResiduals, QPStep] | None = None  # best residuals (and their QP) at the stalled point
         self.least = (maxcv, pt.x)  # the least violation reached, and where
         self.least_trace = [maxcv]  # the least violation after each iteration
@@ -95,7 +103,9 @@ class Monitor:
 
     def after_qp(self, options: Options, st: State, qp: QPStep, nit: int) -> Stop | None:
         """The tests after the QP at ``st`` (``st.qp is qp`` when it was solved): a failed QP, the KKT test
-        (SUCCESS), the iteration limit, a vanishing elastic step at an infeasible point (INFEASIBLE)."""
+        (SUCCESS), the :data:`SETTLED_STEPS`-th settled Newton step in a row (:func:`~sqp.termination.settled`) at a
+        point that passes the ACCEPTABLE test, the iteration limit, a vanishing elastic step at an infeasible point
+        (INFEASIBLE)."""
         if not qp.found:
             return Stop(Status.QP_FAILED, f"Backends tried: {', '.join(name for name, _ in options.backends)} "
                                           f"(last answer: {qp.status}) at iteration {nit}.")
@@ -107,6 +117,10 @@ class Monitor:
             self.best = (kkt, qp)  # the best multipliers at this (stalled) point
         if kkt.satisfied(self.tol, options.constraint_tol):
             return Stop(Status.SUCCESS)
+        exact = self.problem.hess is not None and not qp.elastic
+        self.settled_run = self.settled_run + 1 if exact and settled(st.pt.x, qp.d) else 0
+        if self.settled_run >= SETTLED_STEPS and acceptable(self.problem, st, kkt, qp, self.tol, self.feasibility_tol):
+            return Stop(Status.ACCEPTABLE)
         if nit == self.max_iter:
             return Stop(Status.MAX_ITER)
         if qp.elastic and not kkt.feasible(self.tol) and np.max(np.abs(qp.d)) <= ELASTIC_STATIONARY_STEP * (

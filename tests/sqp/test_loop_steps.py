@@ -12,12 +12,12 @@ from sqp.hessian_strategy import ConvexifiedExact, DampedBFGS, hessian_strategy
 from sqp.iterate import Evaluator, State
 from sqp.linesearch import line_search, merit_search
 from sqp.merit import ARMIJO, directional_derivative, merit, penalties
-from sqp.monitor import STALL_ITERATIONS, Monitor
+from sqp.monitor import SETTLED_STEPS, STALL_ITERATIONS, Monitor
 from sqp.options import Options
 from sqp.result import Status
 from sqp.solver import bounded_steps, subproblem
 from sqp.subproblem import QPStep
-from sqp.termination import INFEASIBLE_STALL, RESTART_BOUNDED_ITERATIONS
+from sqp.termination import INFEASIBLE_STALL, RESTART_BOUNDED_ITERATIONS, SETTLED_STEP
 
 
 def _circle(x0=(1.2, -0.7), hess=True):
@@ -251,6 +251,42 @@ def test_monitor_counts_negligible_steps_and_judges_the_stalled_point():
     mon.after_qp(options, st_far, far, 0)
     stop = mon.after_search(st_far, None, "fun", 1e-10, 0)
     assert stop.status is Status.NONFINITE and "fun returned NaN" in stop.detail
+
+
+@pytest.mark.parametrize("scale", [1e-3, 1.0, 1e3])
+def test_monitor_ends_on_settled_newton_steps_only_at_an_acceptable_point(scale):
+    """With exact Hessians, :data:`SETTLED_STEPS` QP steps in a row below :data:`SETTLED_STEP` relative to the point
+    end the solve ACCEPTABLE when the point passes the ACCEPTABLE test (its residual is rounding's), and nothing
+    less does: one such step, a step just above the level, multipliers outside the ACCEPTABLE level, a damped-BFGS
+    model (whose small step says nothing about the distance to a solution)."""
+    x = scale * np.array([1.0, -1.0])
+    level = SETTLED_STEP * (1.0 + scale)
+    off = 2e-7 / min(scale, 1.0)  # multipliers off by a scaled stationarity residual 4e-7 (lam* = -1/2)
+    con = {"type": "eq", "fun": lambda z: np.array([z @ z - 2 * scale**2]), "jac": lambda z: 2 * z[None, :],
+           "hess": lambda z, v: 2 * v[0] * np.eye(2)}
+    for hess in (True, False):
+        H = (lambda z: np.array([[0.0, 1.0], [1.0, 0.0]])) if hess else None
+        problem = build_problem(lambda z: z[0] * z[1], list(x), lambda z: np.array([z[1], z[0]]), None, [con], (), H)
+        options = Options().for_problem(problem)
+        _, st = _state(problem, x)
+        for d_size, lam, settles in ((0.5 * level, -0.5 - off, True), (2.0 * level, -0.5 - off, False),
+                                     (0.5 * level, -0.3, False)):
+            qp = _qp(problem, [d_size, 0.0], [lam])
+            st = State(st.pt, st.der, st.B, st.mu, qp)
+            mon = _monitor(problem, st)
+            stops = [mon.after_qp(options, st, qp, k) for k in range(SETTLED_STEPS + 1)]
+            assert mon.kkt.stationarity > 1e-8  # (not SUCCESS at tol)
+            assert all(stop is None for stop in stops[:SETTLED_STEPS - 1])
+            if settles and hess:
+                assert stops[SETTLED_STEPS - 1].status is Status.ACCEPTABLE
+            else:
+                assert all(stop is None for stop in stops), (hess, d_size, lam)
+            # a step that is not settled breaks the run
+            mon = _monitor(problem, st)
+            big = _qp(problem, [2.0 * level, 0.0], [lam])
+            for k in range(2 * SETTLED_STEPS):
+                step = qp if k % 2 == 0 else big
+                assert mon.after_qp(options, State(st.pt, st.der, st.B, st.mu, step), step, k) is None
 
 
 def test_monitor_detects_divergence_and_stalled_infeasibility():

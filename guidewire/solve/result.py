@@ -133,6 +133,10 @@ class Solution:
         Starts solved (:mod:`guidewire.solve.branches`): 1, or 1 + the mirror starts tried where a free tangent left the
         branch in doubt. ``iterations`` and ``rounds`` are those of the start that gave the answer; ``solve_time_s``
         covers every start.
+    coarse_bars : tuple of int
+        Bars of the coarser solves of the same scene whose answer, interpolated, started this one (coarsest first;
+        :func:`guidewire.solve.pipeline.nested_start`), empty when none did; ``iterations`` and ``rounds`` are this
+        solve's own, ``solve_time_s`` includes theirs.
     """
 
     scene: Scene
@@ -161,6 +165,7 @@ class Solution:
     multipliers: tuple[FloatArray, ...] = ()
     error_estimate_mm: float | None = None
     starts: int = 1
+    coarse_bars: tuple[int, ...] = ()
 
     @property
     def scheme(self) -> str:
@@ -234,7 +239,7 @@ class Solution:
             "bar_lengths": np.diff(self.s).tolist(),
             "layout": self.layout, "success": self.success, "status": self.status, "message": self.message,
             "fallback": self.fallback, "energy": self.energy, "iterations": self.iterations, "rounds": self.rounds,
-            "starts": self.starts,
+            "starts": self.starts, "coarse_bars": list(self.coarse_bars),
             "solve_time_s": self.solve_time_s, "max_violation": self.max_violation,
             "nodes": self.nodes.tolist(), "s": self.s.tolist(), "bar_angles": self.bar_angles.tolist(),
             "tangent_angles": self.tangent_angles.tolist(), "relative_angles": self.relative_angles.tolist(),

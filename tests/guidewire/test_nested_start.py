@@ -1,0 +1,93 @@
+"""A large vessel solve starts from the answer of the same scene at a quarter of its bars (at least 100)
+(:func:`guidewire.solve.pipeline.nested_start`): the same answer as from the default start, in fewer iterations, and
+the default start again when the coarse solve fails."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import guidewire
+from guidewire.solve import pipeline
+from guidewire.solve.options import SolveOptions
+
+VESSELS = Path(str(resources.files("guidewire") / "scenes" / "vessels"))
+CASES = [("tortuous", None), ("s_bend", None), ("aortic_arch", 250.0)]
+BARS = 400
+
+
+def _scene(name: str, length: float | None) -> guidewire.Scene:
+    scene = guidewire.load_scene(VESSELS / f"{name}.toml")
+    return scene if length is None else scene.with_wire(length=length)
+
+
+def _plain(scene: guidewire.Scene, monkeypatch: pytest.MonkeyPatch, bars: int = BARS) -> guidewire.Solution:
+    with monkeypatch.context() as patch:
+        patch.setattr(pipeline, "NESTED_FROM", 10**9)  # (no scene is that large: the default start)
+        return guidewire.solve(scene, bars=bars, branches="first")
+
+
+def _coarse(bars: int) -> int:
+    return max(pipeline.NESTED_MIN_BARS, bars // pipeline.NESTED_RATIO)
+
+
+@pytest.mark.parametrize("bars", [250, BARS, 560])  # (the dense program of bar angles at 250, the full space above)
+@pytest.mark.parametrize(("name", "length"), CASES)
+def test_a_nested_start_reaches_the_default_starts_answer_in_fewer_iterations(name, length, bars, monkeypatch):
+    scene = _scene(name, length)
+    nested = guidewire.solve(scene, bars=bars, branches="first")
+    plain = _plain(scene, monkeypatch, bars)
+    assert nested.success and plain.success, (nested.message, plain.message)
+    assert nested.coarse_bars == (_coarse(bars),) and plain.coarse_bars == ()
+    assert nested.to_dict()["coarse_bars"] == [_coarse(bars)]
+    # one branch: the energies within the multi-start's tie (a relative 1e-6), the nodes within 1 % of a bar
+    assert abs(nested.energy - plain.energy) <= 1e-6 * plain.energy
+    assert np.max(np.hypot(*(nested.nodes - plain.nodes).T)) <= 1e-2 * scene.wire.length / bars
+    # the fine program starts where the lumen's rows already model the answer's walls: fewer rounds, fewer iterations
+    assert nested.rounds < plain.rounds and nested.iterations < plain.iterations
+
+
+@pytest.mark.parametrize(("name", "length"), CASES)
+def test_the_nested_start_lies_inside_the_lumen_on_the_coarse_answers_chords(name, length):
+    """Every node of the interpolated start clears the wall by the wire's radius (up to the chord rule's rounding):
+    the coarse answer's rows keep its chords inside, and the start's nodes lie on them at the fine arc lengths."""
+    scene = _scene(name, length)
+    made = pipeline.nested_start(scene, SolveOptions(branches="first"), BARS, 0.0)
+    assert made is not None
+    nodes, coarse = made
+    assert coarse == (_coarse(BARS),) and nodes.shape == (BARS + 1, 2)
+    bars = np.hypot(*np.diff(nodes, axis=0).T)
+    assert np.all(bars <= scene.wire.length / BARS * (1.0 + 1e-9))  # chords of a bent polyline: never longer
+    clearance = scene.vessel.clearance(nodes[1:]).distance
+    assert np.min(clearance - 0.5 * scene.wire.diameter) >= -1e-6
+
+
+def test_a_failed_coarse_solve_leaves_the_default_start(monkeypatch):
+    scene = _scene("tortuous", None)
+    original = pipeline.solve_once
+
+    def coarse_fails(scene, options, start):
+        sol = original(scene, options, start)
+        return replace(sol, success=False) if options.bars == _coarse(BARS) else sol
+
+    monkeypatch.setattr(pipeline, "solve_once", coarse_fails)
+    sol = guidewire.solve(scene, bars=BARS, branches="first")
+    monkeypatch.undo()
+    plain = _plain(scene, monkeypatch)
+    assert sol.success and sol.coarse_bars == ()
+    assert sol.energy == plain.energy and sol.iterations == plain.iterations
+
+
+@pytest.mark.parametrize("given", ["initial_angles", "bars_below"])
+def test_a_given_start_or_a_small_chain_is_not_nested(given):
+    scene = _scene("bend", None)
+    if given == "initial_angles":
+        start = guidewire.formulate(scene.with_bars(BARS)).model.x0
+        sol = guidewire.solve(scene, bars=BARS, initial_angles=start)
+    else:
+        sol = guidewire.solve(scene, bars=pipeline.NESTED_FROM * pipeline.NESTED_MIN_BARS - 1, branches="first")
+    assert sol.success and sol.coarse_bars == ()

@@ -43,6 +43,9 @@ starts are bar angles, which the full-space program starts from as well, so a ve
 arch at 2 bars per mm, 205 / 210 mm, 410-420 bars in the full space: 0.036 / 0.045 N·mm through the third branch
 against the main centreline's 0.315, 0.7 s against 0.25 s).
 
+From 200 bars in a vessel, each candidate is solved at a quarter of its bars first and its fine solve starts from
+that answer, as the first start is (:func:`guidewire.solve.pipeline.nested_start`).
+
 The candidates are built from the scene's geometry and the first answer only, so the mirrored or rotated scene gets
 the mirrored or rotated candidates, in the same order, and keeps the mirrored or rotated answer.
 """

@@ -56,6 +56,9 @@ class SolveOptions:
     program of bar angles (:func:`guidewire.solve.pipeline.solve_once`). A candidate start of ``branches="lowest"``
     is not: it explores another branch, and one that fails is dropped, while the dense retry costs O(n³) an
     iteration (0.4-0.6 s at 960 bars)."""
+    nest_start: bool = False
+    """Whether a given start is nested like the default one (:func:`guidewire.solve.pipeline.nested_start`: the
+    coarse solve starts from it): a candidate start of ``branches="lowest"`` is; a caller's start is used as given."""
 
     def minimize_options(self) -> dict[str, Any]:
         """The keyword arguments of :func:`sqp.minimize` these options set (no ``qp_solver`` for sqp's choice)."""

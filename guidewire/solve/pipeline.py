@@ -17,7 +17,7 @@ from threadpoolctl import ThreadpoolController
 
 import sqp
 
-from ..chain.kinematics import scene_bars
+from ..chain.kinematics import BarChain, scene_bars
 from ..program.formulation import BlockMultipliers, Formulation, assemble, formulate
 from ..scene.scene import Scene
 from .branches import candidate_iterations, lowest_branch
@@ -67,7 +67,11 @@ DENSE_FALLBACK_ITER = 100
 #: 194 → 69, 556 → 122, 1 537 → 213 ms; S-bend 250 / 400 / 1 600 / 3 200: 97 → 47, 101 → 51, 331 → 100, 716 → 195 ms;
 #: arch (250 mm) 250 / 400 / 1 600 / 3 200: 98 → 60, 144 → 63, 349 → 139, 1 382 → 478 ms; the bend (4 iterations
 #: either way) within 10 %; the energies the same to 3e-8 (relative). Below 100 bars a coarse chain's bars are
-#: long enough (2-4 mm) for the chord rule to need many more rounds.
+#: long enough (2-4 mm) for the chord rule to need many more rounds. The candidate starts of ``branches="lowest"``
+#: are nested too, each from its own start's nodes at the coarse bars (``SolveOptions.nest_start``): the arch
+#: (default ``branches``) at 250 mm and 300 bars 45 s → 2.0 s (a branch start that crept through its rounds), at 230
+#: mm and 500 bars 1.5 → 0.5 s, at 250 mm and 1 000 bars 2.2 → 1.2 s, the same answers; ``s_bend_branch`` at 66-70
+#: mm, 200-400 bars, a lower minimum than before (4.63-4.76 against 4.71-4.92 N·mm).
 NESTED_RATIO = 4
 NESTED_MIN_BARS = 100
 NESTED_FROM = 2
@@ -91,7 +95,7 @@ def run(scene: Scene, options: SolveOptions) -> Solution:
             return first
         limit = candidate_iterations(first, options.max_iter)
         candidate = replace(options, initial_nodes=None, multipliers0=None, reuse=None, max_iter=limit,
-                            round_iterations=limit, dense_retry=False)
+                            round_iterations=limit, dense_retry=False, nest_start=True)
 
         def solve_from(x0: Any) -> Solution:
             return solve_once(scene, replace(candidate, initial_angles=x0), time.perf_counter())
@@ -122,7 +126,7 @@ def solve_once(scene: Scene, options: SolveOptions, start: float) -> Solution:
     coarse: tuple[int, ...] = ()
     nodes = nested_start(scene, options, n_bars, start)
     if nodes is not None:
-        options, coarse = replace(options, initial_nodes=nodes[0]), nodes[1]
+        options, coarse = replace(options, initial_angles=None, initial_nodes=nodes[0]), nodes[1]
     layout = options.layout
     if layout == "auto":
         layout = choose_layout(n_bars, options.hessian, scene) if isinstance(n_bars, int) else "reduced"
@@ -164,22 +168,44 @@ def solve_once(scene: Scene, options: SolveOptions, start: float) -> Solution:
 
 def nested_start(scene: Scene, options: SolveOptions, n_bars: Any, start: float) -> tuple[Any, tuple[int, ...]] | None:
     """The start :data:`NESTED_RATIO` makes for a vessel scene of ``n_bars`` bars from the default start (exact
-    Hessian, bars placed by count): the nodes of the scene's answer at ``max(NESTED_MIN_BARS, n_bars //
-    NESTED_RATIO)`` bars (solved by :func:`solve_once`, so itself nested while large enough) interpolated linearly
-    along the wire at this chain's node arc lengths — on the coarse answer's chords, which its rows keep inside the
-    lumen — and the bars of every coarse solve, coarsest first; None when the scene does not qualify or the coarse
-    solve failed (then the default start is used)."""
-    if (scene.vessel is None or options.given_start or options.hessian != "exact" or type(n_bars) is not int
-            or scene.wire.bar_lengths is not None or n_bars < NESTED_FROM * NESTED_MIN_BARS):
+    Hessian, bars placed by count), or from a given one with ``options.nest_start`` (a candidate start of
+    ``branches="lowest"``): the nodes of the scene's answer at ``m = max(NESTED_MIN_BARS, n_bars // NESTED_RATIO)``
+    bars (solved by :func:`solve_once`, so itself nested while large enough; from the given start's nodes at the
+    coarse chain's arc lengths when there is one) interpolated linearly along the wire at this chain's node arc
+    lengths — on the coarse answer's chords, which its rows keep inside the lumen — and the bars of every coarse
+    solve, coarsest first; None when the scene does not qualify or the coarse solve failed (then the start is the
+    one the options give)."""
+    if (scene.vessel is None or (options.given_start and not options.nest_start) or options.hessian != "exact"
+            or options.multipliers0 is not None or type(n_bars) is not int or scene.wire.bar_lengths is not None
+            or n_bars < NESTED_FROM * NESTED_MIN_BARS):
         return None
-    coarse = solve_once(scene, replace(options, bars=max(NESTED_MIN_BARS, n_bars // NESTED_RATIO)), start)
+    m = max(NESTED_MIN_BARS, n_bars // NESTED_RATIO)
+    s = _node_arc_lengths(scene, n_bars)
+    coarse_options = replace(options, bars=m)
+    if options.given_start:
+        given = options.initial_nodes
+        if given is None:
+            given = BarChain(np.asarray(scene.base.point, dtype=float), np.diff(s)).nodes(
+                np.asarray(options.initial_angles, dtype=float))
+        coarse_options = replace(coarse_options, initial_angles=None,
+                                 initial_nodes=_along(np.asarray(given, dtype=float), s, _node_arc_lengths(scene, m)))
+    coarse = solve_once(scene, coarse_options, start)
     if not coarse.success:
         return None
-    lengths, _ = scene_bars(scene.with_bars(n_bars))
-    s = np.concatenate(([0.0], np.cumsum(lengths)))
-    s = np.clip(s * (coarse.s[-1] / s[-1]), coarse.s[0], coarse.s[-1])  # (the two running sums' last bits)
-    nodes = np.column_stack([np.interp(s, coarse.s, coarse.nodes[:, i]) for i in range(coarse.nodes.shape[1])])
-    return nodes, (*coarse.coarse_bars, coarse.n_bars)
+    return _along(coarse.nodes, coarse.s, s), (*coarse.coarse_bars, coarse.n_bars)
+
+
+def _node_arc_lengths(scene: Scene, bars: int) -> Any:
+    """Arc length (mm) of every node of the scene's chain of ``bars`` bars (:func:`scene_bars`), base first."""
+    lengths, _ = scene_bars(scene.with_bars(bars))
+    return np.concatenate(([0.0], np.cumsum(lengths)))
+
+
+def _along(nodes: Any, s: Any, at: Any) -> Any:
+    """The polyline ``nodes`` (at arc lengths ``s``) interpolated linearly at the arc lengths ``at`` (of the same
+    wire: the two running sums' last bits aside)."""
+    at = np.clip(at * (s[-1] / at[-1]), s[0], s[-1])
+    return np.column_stack([np.interp(at, s, nodes[:, i]) for i in range(nodes.shape[1])])
 
 
 def start_multipliers(form: Formulation, multipliers0: Any) -> list[Any] | None:

@@ -91,3 +91,18 @@ def test_a_given_start_or_a_small_chain_is_not_nested(given):
     else:
         sol = guidewire.solve(scene, bars=pipeline.NESTED_FROM * pipeline.NESTED_MIN_BARS - 1, branches="first")
     assert sol.success and sol.coarse_bars == ()
+
+
+@pytest.mark.parametrize(("name", "length", "bars"), [("aortic_arch", 230.0, 240), ("s_bend_branch", 70.0, 240)])
+def test_the_candidate_starts_are_nested_too_and_the_lowest_answer_is_no_higher(name, length, bars, monkeypatch):
+    """``branches="lowest"`` in a branched vessel: each branch start is solved at the coarse bars first (from the
+    start's own nodes there), then from that answer; the lowest answer is at least as low as from the starts as
+    given (on these two: the arch's same minimum, the S-bend's branch a lower one)."""
+    scene = _scene(name, length)
+    nested = guidewire.solve(scene, bars=bars)
+    with monkeypatch.context() as patch:
+        patch.setattr(pipeline, "NESTED_FROM", 10**9)
+        plain = guidewire.solve(scene, bars=bars)
+    assert nested.success and plain.success and nested.starts == plain.starts > 1
+    assert nested.coarse_bars == (_coarse(bars),)
+    assert nested.energy <= plain.energy * (1.0 + 1e-6)

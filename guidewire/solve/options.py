@@ -56,6 +56,10 @@ class SolveOptions:
     program of bar angles (:func:`guidewire.solve.pipeline.solve_once`). A candidate start of ``branches="lowest"``
     is not: it explores another branch, and one that fails is dropped, while the dense retry costs O(n³) an
     iteration (0.4-0.6 s at 960 bars)."""
+    bfgs_retry: bool = True
+    """Whether a stalled exact-Hessian solve is solved again with damped BFGS
+    (:func:`guidewire.solve.pipeline.solve_once`); a nested start's coarse solve is not (one that stalled took 4 s at
+    100 bars, the arch at 240 mm: a start is not worth it, the fine solve then starts as it would have)."""
     nest_start: bool = False
     """Whether a given start is nested like the default one (:func:`guidewire.solve.pipeline.nested_start`: the
     coarse solve starts from it): a candidate start of ``branches="lowest"`` is; a caller's start is used as given."""

@@ -146,7 +146,7 @@ def solve_once(scene: Scene, options: SolveOptions, start: float) -> Solution:
     elif options.hessian == "exact" and res.status in FALLBACK_STATUSES and not dense:
         message = (f"{res.message} (no {FALLBACK} retry: the dense program of bar angles needs about "
                    f"{program_bytes(form.model.n, 'reduced') / 2**30:.1f} GiB, more than the memory available)")
-    elif options.hessian == "exact" and res.status in FALLBACK_STATUSES:
+    elif options.hessian == "exact" and res.status in FALLBACK_STATUSES and options.bfgs_retry:
         # Newton–SQP can stall where the exact Lagrangian Hessian is indefinite on the constraints' null space at
         # poor multiplier estimates (a nearly taut stretch between two points); the paper's damped BFGS, started
         # from the exact energy Hessian, does not depend on them: solve again from the same start
@@ -181,7 +181,7 @@ def nested_start(scene: Scene, options: SolveOptions, n_bars: Any, start: float)
         return None
     m = max(NESTED_MIN_BARS, n_bars // NESTED_RATIO)
     s = _node_arc_lengths(scene, n_bars)
-    coarse_options = replace(options, bars=m)
+    coarse_options = replace(options, bars=m, bfgs_retry=False)  # (a start only: one that stalls is not worth a retry)
     if options.given_start:
         given = options.initial_nodes
         if given is None:

@@ -40,8 +40,9 @@ def _summary(sol: Solution) -> str:
     lines = [
         f"scene {sol.scene.name!r}: {sol.n_bars} bars, scheme {sol.scheme}",
         f"  {'converged' if sol.success else 'NOT converged'} (status {sol.status}): {sol.message}",
-        f"  energy {sol.energy:.6g} N·mm, {sol.iterations} iterations, {sol.solve_time_s:.3f} s, "
-        f"max violation {sol.max_violation:.2e}",
+        f"  energy {sol.energy:.6g} N·mm, {sol.iterations} iterations"
+        + (f" (from the answer at {' then '.join(map(str, sol.coarse_bars))} bars)" if sol.coarse_bars else "")
+        + f", {sol.solve_time_s:.3f} s, max violation {sol.max_violation:.2e}",
         f"  max bending stress {sol.bending_stress_mpa.max():.4g} MPa "
         f"at s = {sol.s[sol.bending_stress_mpa.argmax()]:.4g} mm",
     ]

@@ -131,3 +131,13 @@ def test_a_coarse_solve_that_stalls_is_not_retried_with_damped_bfgs(monkeypatch)
         patch.setattr(pipeline, "NESTED_FROM", 10**9)
         plain = guidewire.solve(scene)
     assert nested.success and abs(nested.energy - plain.energy) <= 1e-6 * plain.energy
+
+
+def test_the_cli_summary_says_where_the_start_came_from():
+    from guidewire.app.cli import _summary
+
+    scene = _scene("s_bend", None)
+    nested = guidewire.solve(scene, bars=250, branches="first")
+    small = guidewire.solve(scene, bars=150, branches="first")
+    assert f"(from the answer at {_coarse(250)} bars)" in _summary(nested)
+    assert "from the answer at" not in _summary(small)

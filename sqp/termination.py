@@ -151,18 +151,23 @@ def settled(x: Array, d: Array) -> bool:
     residual is rounding's, more iterations only move x by rounding noise (the guidewire's 3-D rod at 3 200 bars:
     KKT residual ~5e-7 after 5 iterations, then 3-7 more steps of 1e-13-5e-10 mm, the residual scattering between
     5e-8 and 3e-4, before three negligible ones in a row stopped it; see :data:`sqp.monitor.SETTLED_STEPS`)."""
-    return bool(inf_norm(d) <= SETTLED_STEP * (1.0 + inf_norm(x)))
+    return _relatively_below(d, x, SETTLED_STEP)
 
 
 def negligible(x: Array, x_new: Array) -> bool:
     """Whether a step changed x by at most :data:`NEGLIGIBLE_STEP` relative to ``1 + ||x||_inf`` (rounding noise in
     f or c drives such steps)."""
-    return bool(inf_norm(x_new - x) <= NEGLIGIBLE_STEP * (1.0 + inf_norm(x)))
+    return _relatively_below(x_new - x, x, NEGLIGIBLE_STEP)
+
+
+def _relatively_below(step: Array, x: Array, level: float) -> bool:
+    """Whether ``||step||_inf <= level (1 + ||x||_inf)``."""
+    return bool(inf_norm(step) <= level * (1.0 + inf_norm(x)))
 
 
 def stalled_status(problem: Problem, st: State, d: Array) -> Status:
     """Why no step was accepted: non-finite values along the step, a vanishing step, or a failed search."""
-    if inf_norm(d) <= VANISHING_STEP * (1.0 + inf_norm(st.pt.x)):
+    if _relatively_below(d, st.pt.x, VANISHING_STEP):
         if st.qp is not None and st.qp.elastic and np.max(st.pt.v, initial=0.0) > 0:
             return Status.INFEASIBLE
         return Status.SMALL_STEP

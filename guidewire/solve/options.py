@@ -55,7 +55,7 @@ class SolveOptions:
     """Whether a vessel scene that failed in the full space (by the automatic layout) is solved again in the dense
     program of bar angles (:func:`guidewire.solve.pipeline.solve_once`). A candidate start of ``branches="lowest"``
     is not: it explores another branch, and one that fails is dropped, while the dense retry costs O(n³) an
-    iteration (0.4-0.6 s at 960 bars)."""
+    iteration (0.4-0.6 s at 960 bars); nor is a nested start's coarse solve (a start only)."""
     bfgs_retry: bool = True
     """Whether a stalled exact-Hessian solve is solved again with damped BFGS
     (:func:`guidewire.solve.pipeline.solve_once`); a nested start's coarse solve is not (one that stalled took 4 s at

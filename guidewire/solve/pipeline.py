@@ -68,10 +68,11 @@ DENSE_FALLBACK_ITER = 100
 #: arch (250 mm) 250 / 400 / 1 600 / 3 200: 98 → 60, 144 → 63, 349 → 139, 1 382 → 478 ms; the bend (4 iterations
 #: either way) within 10 %; the energies the same to 3e-8 (relative). Below 100 bars a coarse chain's bars are
 #: long enough (2-4 mm) for the chord rule to need many more rounds. The candidate starts of ``branches="lowest"``
-#: are nested too, each from its own start's nodes at the coarse bars (``SolveOptions.nest_start``): the arch
-#: (default ``branches``) at 250 mm and 300 bars 45 s → 2.0 s (a branch start that crept through its rounds), at 230
-#: mm and 500 bars 1.5 → 0.5 s, at 250 mm and 1 000 bars 2.2 → 1.2 s, the same answers; ``s_bend_branch`` at 66-70
-#: mm, 200-400 bars, a lower minimum than before (4.63-4.76 against 4.71-4.92 N·mm).
+#: are nested too, each from its own start's nodes at the coarse bars (``SolveOptions.nest_start``), and one whose
+#: coarse solve fails is dropped: the arch (default ``branches``) at 250 mm and 300 bars 45 s → 1.1 s (a branch start
+#: that crept through its rounds), at 240 mm and 240 bars 1.6 → 0.4 s, at 250 mm and 500 / 1 000 bars 1.5 → 0.5 s and
+#: 2.2 → 0.8 s, the same answers (1-2 bars/mm, 150-250 mm: the same energy at every length tried); ``s_bend_branch``
+#: at 200-320 bars the same or a lower minimum (68-80 mm: 4.59-4.70 against 4.82 N·mm).
 NESTED_RATIO = 4
 NESTED_MIN_BARS = 100
 NESTED_FROM = 2
@@ -120,13 +121,22 @@ def solve_once(scene: Scene, options: SolveOptions, start: float) -> Solution:
     ``min(max_iter, max(FALLBACK_MIN_ITER, max_iter // 5))`` iterations). A vessel scene in the full space by the
     automatic choice gets :data:`FULL_VESSEL_ITER` iterations a round there, then the reduced program, with
     :data:`DENSE_FALLBACK_ITER` iterations over its rounds (its damped-BFGS retry too); neither reduced retry is made
-    when the dense program does not fit in memory, nor for a candidate start (``options.dense_retry``; the message
-    says which). ``start`` is when the clock started."""
+    when the dense program does not fit in memory, nor for a candidate or coarse start (``options.dense_retry``; the
+    message says which); a coarse start gets no damped-BFGS retry either (``options.bfgs_retry``). From the default
+    start (or a candidate's), a large vessel scene first makes its start by a coarser solve (:func:`nested_start`);
+    a candidate whose coarse solve fails is dropped.
+    ``start`` is when the clock started."""
     n_bars = scene.wire.bars if options.bars is None else options.bars
     coarse: tuple[int, ...] = ()
-    nodes = nested_start(scene, options, n_bars, start)
-    if nodes is not None:
-        options, coarse = replace(options, initial_angles=None, initial_nodes=nodes[0]), nodes[1]
+    made = nested_start(scene, options, n_bars, start)
+    if made is not None and made[0] is not None:
+        options = replace(options, initial_angles=None, initial_nodes=made[0])
+        coarse = (*made[1].coarse_bars, made[1].n_bars)
+    elif made is not None and options.given_start:
+        # a candidate whose coarse solve failed is dropped: from its start as given the finer solves crept to their
+        # limits too (the arch at 250 mm, 1 000 bars: 50 iterations at 250 bars and at 1 000, 4.7 s, for nothing)
+        return replace(made[1], message=f"{made[1].message} (a candidate start: its solve at {made[1].n_bars} bars "
+                                        "failed, so it is dropped)")
     layout = options.layout
     if layout == "auto":
         layout = choose_layout(n_bars, options.hessian, scene) if isinstance(n_bars, int) else "reduced"
@@ -142,7 +152,7 @@ def solve_once(scene: Scene, options: SolveOptions, start: float) -> Solution:
         form, res, settled = _solve_in(scene, options, "reduced", minimize_options, runs, fallback_budget)
     answer, fallback, message = form, None, None
     if tried and failed and not options.dense_retry:
-        message = f"{res.message} (a candidate start: no retry in the dense program)"
+        message = f"{res.message} (a candidate or coarse start: no retry in the dense program)"
     elif options.hessian == "exact" and res.status in FALLBACK_STATUSES and not dense:
         message = (f"{res.message} (no {FALLBACK} retry: the dense program of bar angles needs about "
                    f"{program_bytes(form.model.n, 'reduced') / 2**30:.1f} GiB, more than the memory available)")
@@ -166,22 +176,23 @@ def solve_once(scene: Scene, options: SolveOptions, start: float) -> Solution:
                                   settled=settled), coarse_bars=coarse)
 
 
-def nested_start(scene: Scene, options: SolveOptions, n_bars: Any, start: float) -> tuple[Any, tuple[int, ...]] | None:
+def nested_start(scene: Scene, options: SolveOptions, n_bars: Any, start: float) -> tuple[Any, Solution] | None:
     """The start :data:`NESTED_RATIO` makes for a vessel scene of ``n_bars`` bars from the default start (exact
     Hessian, bars placed by count), or from a given one with ``options.nest_start`` (a candidate start of
     ``branches="lowest"``): the nodes of the scene's answer at ``m = max(NESTED_MIN_BARS, n_bars // NESTED_RATIO)``
     bars (solved by :func:`solve_once`, so itself nested while large enough; from the given start's nodes at the
     coarse chain's arc lengths when there is one) interpolated linearly along the wire at this chain's node arc
-    lengths — on the coarse answer's chords, which its rows keep inside the lumen — and the bars of every coarse
-    solve, coarsest first; None when the scene does not qualify or the coarse solve failed (then the start is the
-    one the options give)."""
+    lengths — on the coarse answer's chords, which its rows keep inside the lumen — with the coarse solution (the
+    nodes None when it failed: then the default start is used, and a candidate is dropped); None when the scene does
+    not qualify."""
     if (scene.vessel is None or (options.given_start and not options.nest_start) or options.hessian != "exact"
-            or options.multipliers0 is not None or type(n_bars) is not int or scene.wire.bar_lengths is not None
+            or options.multipliers0 is not None or not isinstance(n_bars, int) or scene.wire.bar_lengths is not None
             or n_bars < NESTED_FROM * NESTED_MIN_BARS):
         return None
     m = max(NESTED_MIN_BARS, n_bars // NESTED_RATIO)
     s = _node_arc_lengths(scene, n_bars)
-    coarse_options = replace(options, bars=m, bfgs_retry=False)  # (a start only: one that stalls is not worth a retry)
+    # (a start only: one that fails is not worth a retry, densely or with damped BFGS)
+    coarse_options = replace(options, bars=m, dense_retry=False, bfgs_retry=False)
     if options.given_start:
         given = options.initial_nodes
         if given is None:
@@ -190,9 +201,7 @@ def nested_start(scene: Scene, options: SolveOptions, n_bars: Any, start: float)
         coarse_options = replace(coarse_options, initial_angles=None,
                                  initial_nodes=_along(np.asarray(given, dtype=float), s, _node_arc_lengths(scene, m)))
     coarse = solve_once(scene, coarse_options, start)
-    if not coarse.success:
-        return None
-    return _along(coarse.nodes, coarse.s, s), (*coarse.coarse_bars, coarse.n_bars)
+    return (_along(coarse.nodes, coarse.s, s) if coarse.success else None), coarse
 
 
 def _node_arc_lengths(scene: Scene, bars: int) -> Any:

@@ -59,7 +59,8 @@ def test_the_nested_start_lies_inside_the_lumen_on_the_coarse_answers_chords(nam
     made = pipeline.nested_start(scene, SolveOptions(branches="first"), BARS, 0.0)
     assert made is not None
     nodes, coarse = made
-    assert coarse == (_coarse(BARS),) and nodes.shape == (BARS + 1, 2)
+    assert coarse.success and coarse.n_bars == _coarse(BARS) and coarse.coarse_bars == ()
+    assert nodes.shape == (BARS + 1, 2)
     bars = np.hypot(*np.diff(nodes, axis=0).T)
     assert np.all(bars <= scene.wire.length / BARS * (1.0 + 1e-9))  # chords of a bent polyline: never longer
     clearance = scene.vessel.clearance(nodes[1:]).distance
@@ -141,3 +142,28 @@ def test_the_cli_summary_says_where_the_start_came_from():
     small = guidewire.solve(scene, bars=150, branches="first")
     assert f"(from the answer at {_coarse(250)} bars)" in _summary(nested)
     assert "from the answer at" not in _summary(small)
+
+
+def test_a_candidate_whose_coarse_solve_fails_is_dropped(monkeypatch):
+    """A candidate start of ``branches="lowest"`` whose coarse solve fails is not solved at the fine bars from its
+    start as given (where such starts crept to their iteration limits too); the first start's answer is kept."""
+    scene = _scene("s_bend_branch", 70.0)
+    original, solve_in = pipeline.solve_once, pipeline._solve_in
+    programs = []
+
+    def coarse_candidates_fail(scene, options, start):
+        sol = original(scene, options, start)
+        return replace(sol, success=False) if options.nest_start and options.bars == _coarse(240) else sol
+
+    def spied_in(scene, options, layout, *args, **kwargs):
+        programs.append((options.bars, options.nest_start))
+        return solve_in(scene, options, layout, *args, **kwargs)
+
+    monkeypatch.setattr(pipeline, "solve_once", coarse_candidates_fail)
+    monkeypatch.setattr(pipeline, "_solve_in", spied_in)
+    sol = guidewire.solve(scene, bars=240)
+    monkeypatch.undo()
+    first = guidewire.solve(scene, bars=240, branches="first")
+    # the candidates' coarse programs were solved, their fine ones never
+    assert (_coarse(240), True) in programs and (240, True) not in programs
+    assert sol.success and sol.starts > 1 and sol.energy == first.energy

@@ -31,6 +31,10 @@ ELASTIC_PRICE_FLOOR = 1e2
 ELASTIC_PRICE_FACTOR = 10.0
 ELASTIC_PROGRESS = 0.1
 
+#: A point whose largest violation is within this fraction of the success tolerance does not need its QP's rows met
+#: more exactly than the first backend met them (:func:`_met_by_another_backend`).
+FEASIBLE_ENOUGH = 0.1
+
 
 def linearised(problem: Problem, st: State, c: Array | None = None) -> tuple[LinearisedRows, LinearisedRows]:
     """The nonlinear rows linearised at ``st`` (with the values ``c`` instead of ``st.pt.c`` when given) and the
@@ -87,9 +91,13 @@ def _met_by_another_backend(problem: Problem, options: Options, st: State, B: An
                             initvals: Array | None) -> QPStep:
     """A consistent linearisation is met exactly by the QP's step; an answer that leaves the (small) violation where
     it was hides inside the backend's own feasibility tolerance: the next backend's answer when it meets the rows
-    better, else ``qp``."""
+    better, else ``qp``. Only while the point's violation could keep the solve from a SUCCESS: a largest violation
+    already within a tenth of the success tolerance (``constraint_tol · max(1, ‖x‖∞)``) is not worth another
+    backend (an interior-point QP of 9 600 variables took 0.17 s to meet rows violated by 3e-10 mm)."""
     v0 = float(st.pt.v.sum())
     if not (v0 > 0.1 * options.tol and len(options.backends) > 1 and not qp.elastic):
+        return qp
+    if st.pt.maxcv <= FEASIBLE_ENOUGH * options.constraint_tol * max(1.0, inf_norm(st.pt.x)):
         return qp
     assert qp.v_lin is not None  # (v0 > 0: there are nonlinear rows)
     v1 = float(qp.v_lin.sum())

@@ -59,7 +59,7 @@ def qp_step(problem: Problem, options: Options, st: State, rho: float) -> tuple[
     B = st.B
     if needs_convexification(B) and not _equality_only(problem, box):
         B = B.convexified()
-    guess = _guess(problem, st) if options.active_set_guess else None
+    guess = _guess(problem, options, st, nl, lin) if options.active_set_guess else None
     first = st.qp is None or not st.qp.found
     qp = solve_subproblem(B, st.der.g, nl, lin, *box, **kw, active=guess, first=first)
     if not qp.found and needs_convexification(B):  # K's inertia is wrong: W is not convex on E's null space
@@ -75,15 +75,22 @@ def qp_step(problem: Problem, options: Options, st: State, rho: float) -> tuple[
     return qp, rho, B
 
 
-def _guess(problem: Problem, st: State) -> NDArray[np.bool_]:
+def _guess(problem: Problem, options: Options, st: State, nl: LinearisedRows,
+           lin: LinearisedRows) -> NDArray[np.bool_]:
     """The QP's inequality rows guessed active (:func:`sqp.subproblem.active_guess`): those the last QP's
     multipliers hold, or at the first iteration those with a starting multiplier (``st.mu`` is then its size; a
-    two-sided row is guessed on its upper side)."""
+    two-sided row is guessed on its upper side). At a start without multipliers, the rows its zero step violates or
+    meets with no slack (within ``tol · max(1, ‖x‖∞)``): the start's working set. (Not at a start with
+    multipliers: there a violated row is mostly one the step leaves, e.g. a pushed wire's new tip outside the lumen.)"""
     if st.qp is not None and st.qp.found:
         return active_guess(problem.nonlinear, problem.linear, st.qp.lam_nl, st.qp.lam_lin)
-    lam = np.array(st.mu, dtype=float)
-    lam[problem.nonlinear.upper] *= -1.0
-    return active_guess(problem.nonlinear, problem.linear, lam, np.zeros(problem.linear.lb.size))
+    if np.any(st.mu):
+        lam = np.array(st.mu, dtype=float)
+        lam[problem.nonlinear.upper] *= -1.0
+        return active_guess(problem.nonlinear, problem.linear, lam, np.zeros(problem.linear.lb.size))
+    slack = np.concatenate((-nl.lo[nl.rows.lower], nl.hi[nl.rows.upper], -lin.lo[lin.rows.lower],
+                            lin.hi[lin.rows.upper]))
+    return slack <= options.tol * max(1.0, inf_norm(st.pt.x))
 
 
 def _met_by_another_backend(problem: Problem, options: Options, st: State, B: Any, qp: QPStep,

@@ -104,6 +104,41 @@ def test_minimize_with_the_guess_matches_without_on_a_sparse_problem():
 
 
 
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("shift", [1e-4, 1e-2])
+def test_a_start_without_multipliers_guesses_its_own_working_set(seed, shift):
+    """With no starting multipliers the first QP is guessed on the rows the start meets with no slack (or violates):
+    a start on the solution's active rows, its other components moved by ``shift``, has its first QP solved by one
+    banded KKT solve instead of a backend, and reaches the same point; the same start without the guess goes to the
+    backend."""
+    n = 400
+    rng = np.random.default_rng(seed)
+    # runs of 20 components pulled well outside the rows (|target| 2) or kept well inside (0.2): every row strictly
+    # active or strictly slack at the solution, so the QP's active set is the solution's at any nearby start
+    outside = np.repeat(rng.uniform(size=n // 20) < 0.5, 20)
+    target = np.where(outside, 2.0, 0.2) * rng.choice([-1.0, 1.0])  # (one side: no run pulled across the middle)
+    fun, jac, tridiagonal = quartic_chain(target)
+
+    def hess(x):
+        main, off = tridiagonal(x)
+        return sp.diags([main, off, off], [0, 1, -1], format="csc")
+
+    lumen = {"type": "ineq", "fun": lambda x: 0.5 - x ** 2, "jac": lambda x: sp.diags(-2.0 * x, format="csr"),
+             "hess": lambda x, v: sp.diags(-2.0 * v, format="csc")}
+    plain = sqp.minimize(fun, np.zeros(n), jac=jac, hess=hess, constraints=[lumen])
+    assert plain.success
+    held = np.abs(plain.constraint_multipliers[0]) > 1e-8
+    np.testing.assert_array_equal(held, outside)
+    # (the free components moved towards the middle, so that no row the solution releases starts without slack)
+    x0 = np.where(held, np.sign(plain.x) * np.sqrt(0.5), plain.x * (1.0 - shift * rng.uniform(size=n)))
+    guessed = sqp.minimize(fun, x0, jac=jac, hess=hess, constraints=[lumen], active_set_guess=True)
+    assert guessed.success, guessed.message
+    assert guessed.history[0].qp_status == "active set"
+    np.testing.assert_allclose(guessed.x, plain.x, atol=1e-7)
+    unguessed = sqp.minimize(fun, x0, jac=jac, hess=hess, constraints=[lumen])
+    assert unguessed.history[0].qp_status != "active set"
+    assert guessed.fun == pytest.approx(plain.fun, rel=1e-10)
+
 def test_a_qp_every_backend_fails_is_solved_by_further_corrections_of_its_guess():
     """When every backend fails a QP that has a guess (simulated by a backend stopped after one iteration, as PIQP and
     Clarabel stop short on an ill-conditioned augmented-Lagrangian model), the guess is corrected further

@@ -210,11 +210,18 @@ STRAIN_LIMIT = 0.08
 #: newtons at most (forces of 0.1-2 N are reported in the catheter-lab literature); more means the wire is jammed.
 PUSH_LIMIT_N = 5.0
 
+#: Net force (N) along the wire from contacts at its interior nodes (:meth:`Solution.tangential_contact_force`) above
+#: which a step is flagged: a frictionless wire on smooth walls has none, and the node rows at 1 bar per mm leave at
+#: most 0.03 N in the shipped vessels without corners; at a branch's corner the node rows hold the wire with
+#: 0.1-0.6 N (``s_bend_branch``), which the push reading then carries. Small beside the 0.1-2 N a hand pushes with.
+TANGENTIAL_LIMIT_N = 0.05
+
 
 def step_flags(sol: Solution, how: str) -> list[str]:
     """What a user should notice about one insertion step: a failed solve, a cold re-solve after a failed warm
-    one, the tip past the vessel's far end, a push above :data:`PUSH_LIMIT_N`, a bending strain above
-    :data:`STRAIN_LIMIT` (with the stress in MPa)."""
+    one, the tip past the vessel's far end, a push above :data:`PUSH_LIMIT_N`, contacts that hold the wire along
+    its length with more than :data:`TANGENTIAL_LIMIT_N` (the push reading is off by that much), a bending strain
+    above :data:`STRAIN_LIMIT` (with the stress in MPa)."""
     flags = [] if sol.success else [f"FAILED: {sol.message}"]
     if how == "warm, then cold":
         flags.append("cold re-solve (the warm start failed)")
@@ -224,6 +231,11 @@ def step_flags(sol: Solution, how: str) -> list[str]:
     push = sol.entrance_force() if sol.success else None
     if push is not None and push > PUSH_LIMIT_N:
         flags.append(f"push {push:.3g} N above {PUSH_LIMIT_N:g} N: the wire is jammed")
+    along = sol.tangential_contact_force()
+    if along is not None and abs(along) > TANGENTIAL_LIMIT_N:
+        flags.append(f"contacts hold the wire along its length with {along:+.3g} N (node rows at an angle to it, as at "
+                     f"a vessel's corner; a frictionless wire has none): the push reading carries it, dE/dL ≈ push "
+                     f"{'-' if along >= 0 else '+'} {abs(along):.3g} N")
     if sol.success and sol.bending_stress_mpa.size:
         strains = sol.bending_stress_mpa / sol.scene.wire.properties_at(sol.s).youngs_modulus
         k = int(np.argmax(strains))

@@ -223,13 +223,35 @@ class Solution:
         """The push (N) needed to insert the wire further through a frictionless entrance: the axial force less the
         configurational (Eshelby-like) force ``M₀²/(2EI)`` the entrance exerts on a bent wire sliding through it
         (Bigoni et al., J. Mech. Phys. Solids 2015), which makes it ``dE/dL``, the energy's rate with the inserted
-        length (tested against finite differences). None for a failed solve."""
+        length (tested against finite differences), as long as the contacts along the wire are normal to it
+        (:meth:`tangential_contact_force` zero); otherwise ``dE/dL`` is this less that force. None for a failed
+        solve."""
         axial = self.axial_force()
         if axial is None:
             return None
         moment = self.reactions[0].moment or 0.0
         stiffness = float(self.scene.wire.properties_at(0.5 * (self.s[0] + self.s[1])).bending_stiffness[0])
         return float(axial - moment**2 / (2.0 * stiffness))
+
+    def tangential_contact_force(self) -> float | None:
+        """The net force (N) the contacts at the wire's interior nodes exert along it, against the push (positive:
+        they resist a further insertion). Zero for a frictionless wire on smooth walls, which touch it along its
+        normal; not zero where a node's row meets the wire at an angle — the node rows of a vessel's corner (a
+        branch's opening), which hold the wire where the real, smooth wire would slide: the entrance push then
+        differs from ``dE/dL`` by this much (:meth:`entrance_force`), and the insertion flags the step
+        (:func:`guidewire.march.insertion.step_flags`). The tip's contact is left out (a tip pressed head-on into a
+        wall is pushed back along the wire by right). None for a failed solve."""
+        if not self.success:
+            return None
+        angles = self.bar_angles
+        total = 0.0
+        for contact in self.contacts():
+            k = contact["node"]
+            if not 0 < k < angles.size:
+                continue
+            t = np.array([np.cos(angles[k - 1]) + np.cos(angles[k]), np.sin(angles[k - 1]) + np.sin(angles[k])])
+            total += contact["force_n"] * float(np.dot(contact["normal"], t / np.linalg.norm(t)))
+        return total
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready values (lists and numbers); ``units`` names the unit of every quantity, ``scene`` is the

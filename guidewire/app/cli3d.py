@@ -31,7 +31,8 @@ def summary3d(sol: Solution3D, scene: Scene3D) -> str:
     if sol.success:
         tip = ", ".join(f"{v:.4g}" for v in sol.tip_point)
         lines += [f"  tip at ({tip}) mm, roll {math.degrees(sol.tip_roll):.1f}°",
-                  f"  entrance push {sol.entrance_force:+.4g} N, torque {sol.entrance_torque:+.4g} N·mm, "
+                  f"  entrance push {sol.push:+.4g} N (= dE/dL; axial force {sol.entrance_force:+.4g} N), torque "
+                  f"{sol.entrance_torque:+.4g} N·mm, "
                   f"{sum(f.kind == 'lumen' for f in sol.forces)} wall contacts"]
     else:
         lines.append("  no forces reported: multipliers mean forces only at a converged answer")
@@ -122,7 +123,7 @@ def _printer() -> Any:
     def report(sol: Solution3D, index: int, total: int) -> None:
         length = float(np.sum(sol.lengths))
         state = "ok" if sol.success else "FAILED"
-        push = f"{sol.entrance_force:+.4g} N" if sol.success else "-"
+        push = f"{sol.push:+.4g} N" if sol.success else "-"
         torque = f"{sol.entrance_torque:+.3g} N·mm" if sol.success else "-"
         print(f"[{index + 1}/{total}] L = {length:8.3f} mm  rot {math.degrees(sol.base_rotation):7.1f}°  {state:6s}  "
               f"E = {sol.energy:10.5g} N·mm  tip roll {math.degrees(sol.tip_roll):7.1f}°  push {push:>11s}  "

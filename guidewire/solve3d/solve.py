@@ -21,6 +21,7 @@ from sqp.backends import auto_choice
 from ..rod import kinematics
 from ..rod import quaternion as quat
 from ..rod.jet import Jet
+from ..rod.material import twist_stiffness
 from ..rod.strain import joint_strain
 from .program import Program, bar_layout, node_radii
 from .result import ContactForce3D, Solution3D, clamp_moment, half_joint_moment
@@ -200,8 +201,12 @@ def answer(program: Program, res: Any, iterations: int, rounds: int, seconds: fl
     twist = joint_twists(program.energy.base, q)
     forces: list[ContactForce3D] = []
     clamp_f, clamp_m = np.zeros(3), np.zeros(3)
+    first = np.array([0.5 * program.lengths[0]])
     extras: dict[str, Any] = {"base_tangent": np.asarray(scene.base.tangent), "closure_gap_mm":
-                              float(np.max(np.abs(nodes - nodes_var)))}
+                              float(np.max(np.abs(nodes - nodes_var))),
+                              "entrance_stiffness": (float(scene.wire.properties_at(first).bending_stiffness[0]),
+                                                     float(twist_stiffness(scene.wire, first, scene.poisson_ratio,
+                                                                           scene.shear_modulus)[0]))}
     success = bool(res.success)
     if success:
         clamp_f, clamp_m, forces = external_forces(program, list(res.constraint_multipliers), nodes, nodes_var, q,

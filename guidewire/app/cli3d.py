@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from ..march.insertion import TANGENTIAL_LIMIT_N
 from ..solve3d.insert import insert3d
 from ..solve3d.result import Solution3D
 from ..solve3d.scene import Scene3D
@@ -128,6 +129,10 @@ def _printer() -> Any:
         print(f"[{index + 1}/{total}] L = {length:8.3f} mm  rot {math.degrees(sol.base_rotation):7.1f}°  {state:6s}  "
               f"E = {sol.energy:10.5g} N·mm  tip roll {math.degrees(sol.tip_roll):7.1f}°  push {push:>11s}  "
               f"torque {torque:>12s}  {sol.iterations:3d} it  {1e3 * sol.solve_time_s:7.1f} ms", flush=True)
+        along = sol.tangential_contact_force()
+        if abs(along) > TANGENTIAL_LIMIT_N:
+            print(f"    ! contacts hold the wire along its length with {along:+.3g} N (node rows at an angle to it, as "
+                  "at a branch's ridge; a frictionless wire has none)", flush=True)
 
     return report
 

@@ -214,6 +214,7 @@ PUSH_LIMIT_N = 5.0
 #: which a step is flagged: a frictionless wire on smooth walls has none, and the node rows at 1 bar per mm leave at
 #: most 0.03 N in the shipped vessels without corners; at a branch's corner the node rows hold the wire with
 #: 0.1-0.6 N (``s_bend_branch``), which the push reading then carries. Small beside the 0.1-2 N a hand pushes with.
+#: The 3-D command line flags its steps by the same limit (:meth:`Solution3D.tangential_contact_force`).
 TANGENTIAL_LIMIT_N = 0.05
 
 

@@ -132,6 +132,22 @@ class Solution3D:
         """The clamp's moment about the entrance tangent (N·mm)."""
         return float(self.clamp_moment @ self.frames_base_tangent)
 
+    def tangential_contact_force(self) -> float:
+        """The net force (N) the wall and lumen contacts at the wire's interior nodes exert along it, against the
+        push (positive: they resist a further insertion). Zero for a frictionless wire on a smooth wall, which
+        touches it along its normal; not zero where a node's row meets the wire at an angle — the ridge where a
+        branch leaves its parent, whose node rows (of the one tube each node is deepest in) hold the wire where the
+        real, smooth wire would slide over it (the type I arch's left subclavian: 0.79 N at 220 mm). The tip's
+        contact is left out (a tip pressed head-on into a wall is pushed back along the wire by right). 0 for a
+        failed solve."""
+        total = 0.0
+        for f in self.forces:
+            if f.kind not in ("lumen", "wall") or not 0 < f.node < self.n_bars:
+                continue
+            t = self.frames[f.node - 1, 2] + self.frames[f.node, 2]
+            total -= float(f.force @ t) / float(np.linalg.norm(t))
+        return total
+
     @property
     def frames_base_tangent(self) -> FloatArray:
         return np.asarray(self.extras["base_tangent"], dtype=float)

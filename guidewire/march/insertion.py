@@ -79,6 +79,7 @@ def step_record(sol: Solution) -> dict[str, Any]:
         "status": sol.status, "message": sol.message, "energy": sol.energy, "nodes": sol.nodes.tolist(),
         "contacts": sol.contacts(), "tip": {"point": sol.nodes[-1].tolist(), "angle": tip_angle},
         "entrance_force_n": sol.entrance_force(), "axial_force_n": sol.axial_force(),
+        "tangential_contact_force_n": sol.tangential_contact_force(),
         "max_bending_stress_mpa": float(np.max(sol.bending_stress_mpa)),
         "iterations": sol.iterations, "solve_time_s": sol.solve_time_s,
     }

@@ -273,6 +273,7 @@ class Solution:
             "contacts": self.contacts(), "tip": {"point": self.nodes[-1].tolist(),
                                                  "angle": float(self.tangent_angles[-1])},
             "entrance_force_n": self.entrance_force(), "axial_force_n": self.axial_force(),
+            "tangential_contact_force_n": self.tangential_contact_force(),
             **({} if self.error_estimate_mm is None else {"error_estimate_mm": self.error_estimate_mm}),
         }
 

@@ -170,6 +170,7 @@ class Solution3D:
                 "tip": {"point": self.tip_point.tolist(), "direction": self.tip_direction.tolist(),
                         "roll": self.tip_roll, "d1": self.frames[-1, 0].tolist()},
                 "entrance_force_n": self.entrance_force, "push_n": self.push,
+                "tangential_contact_force_n": self.tangential_contact_force(),
                 "entrance_torque_nmm": self.entrance_torque,
                 "clamp_force_n": self.clamp_force.tolist(), "clamp_moment_nmm": self.clamp_moment.tolist(),
                 "contacts": [f.to_dict() for f in self.forces], "iterations": self.iterations,

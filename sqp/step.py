@@ -15,7 +15,7 @@ from sqp.kkt import inf_norm
 from sqp.options import Options
 from sqp.problem import Problem
 from sqp.structured import needs_convexification
-from sqp.subproblem import LinearisedRows, QPStep, active_guess, linearise, solve_subproblem
+from sqp.subproblem import LinearisedRows, QPStep, active_guess, inequality_bounds, linearise, solve_subproblem
 
 Array = NDArray[np.float64]
 
@@ -88,9 +88,7 @@ def _guess(problem: Problem, options: Options, st: State, nl: LinearisedRows,
         lam = np.array(st.mu, dtype=float)
         lam[problem.nonlinear.upper] *= -1.0
         return active_guess(problem.nonlinear, problem.linear, lam, np.zeros(problem.linear.lb.size))
-    slack = np.concatenate((-nl.lo[nl.rows.lower], nl.hi[nl.rows.upper], -lin.lo[lin.rows.lower],
-                            lin.hi[lin.rows.upper]))
-    return slack <= options.tol * max(1.0, inf_norm(st.pt.x))
+    return inequality_bounds([nl, lin]) <= options.tol * max(1.0, inf_norm(st.pt.x))
 
 
 def _met_by_another_backend(problem: Problem, options: Options, st: State, B: Any, qp: QPStep,

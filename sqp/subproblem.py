@@ -90,7 +90,7 @@ def _stack_rows(parts: list[LinearisedRows], n: int,
                 compressed: str = "csc") -> tuple[Any, Array, Any, Array, list[tuple[int, ...]]]:
     """Equalities ``E d = e`` and inequalities ``G d <= h`` of several row kinds, and where each kind's rows went
     (sparse ones in the ``compressed`` format)."""
-    E_list, e_list, G_list, h_list, where = [], [], [], [], []
+    E_list, e_list, G_list, where = [], [], [], []
     n_eq = n_in = 0
     for part in parts:  # (only the kinds of rows present: most problems have one or two)
         r = part.rows
@@ -100,18 +100,22 @@ def _stack_rows(parts: list[LinearisedRows], n: int,
             e_list.append(part.lo[r.eq])
         if r.lower.size:
             G_list.append(-_rows_of(M, r.lower))
-            h_list.append(-part.lo[r.lower])
         if r.upper.size:
             G_list.append(_rows_of(M, r.upper))
-            h_list.append(part.hi[r.upper])
         where.append((n_eq, n_in, n_in + r.lower.size))
         n_eq += r.eq.size
         n_in += r.lower.size + r.upper.size
     E = _vstack(E_list, n, compressed)
     G = _vstack(G_list, n, compressed)
     e = _concatenate(e_list)
-    h = _concatenate(h_list)
-    return E, e, G, h, where
+    return E, e, G, inequality_bounds(parts), where
+
+
+def inequality_bounds(parts: list[LinearisedRows]) -> Array:
+    """``h`` of the inequalities ``G d <= h`` of :func:`_stack_rows` (per kind, the lower sides, then the upper
+    ones): the rows' slack at ``d = 0``."""
+    return _concatenate([h for part in parts for h in (-part.lo[part.rows.lower], part.hi[part.rows.upper])
+                         if h.size])
 
 
 def _rows_of(M: Any, index: NDArray[np.intp]) -> Any:

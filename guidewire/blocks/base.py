@@ -7,7 +7,8 @@ once as *rows*, in one of two forms that both program layouts know how to state
 
 :class:`NodeRows`
     ``lb ≤ d_r · p_{k_r} ≤ ub`` — linear in a node position ``p_k`` (mm), one direction ``d_r`` per row. Nonlinear
-    in ``φ`` (``p_k`` is a sum of ``l_j (cos φ_j, sin φ_j)``), linear in the full space.
+    in ``φ`` (``p_k`` is a sum of ``l_j (cos φ_j, sin φ_j)``), linear in the full space. A row may instead hold a
+    point of a bar, ``(1 − τ) p_k + τ p_{k+1}`` (a bar's contact with a vessel's corner).
 :class:`AngleRows`
     ``lb ≤ A φ ≤ ub`` — linear in the bar angles in both layouts.
 
@@ -39,13 +40,18 @@ IntArray = NDArray[np.int_]
 
 @dataclass(frozen=True)
 class NodeRows:
-    """Rows ``lb ≤ d_r · p_{k_r} + ½ (p_{k_r} − c_r)ᵀ H_r (p_{k_r} − c_r) ≤ ub`` in node positions: linear
-    (``H`` None: walls, contact positions) or a quadratic model of a curved boundary around ``c_r`` (a lumen).
+    """Rows ``lb ≤ d_r · q_r + ½ (q_r − c_r)ᵀ H_r (q_r − c_r) ≤ ub`` on points ``q_r`` of the wire: linear (``H``
+    None: walls, contact positions) or a quadratic model of a curved boundary around ``c_r`` (a lumen).
+
+    ``q_r`` is the node ``p_{k_r}``, or with :attr:`fractions` the point ``(1 − τ_r) p_{k_r} + τ_r p_{k_r + 1}`` of the
+    bar between nodes ``k_r`` and ``k_r + 1`` (a bar's contact with a vessel's corner, whose force the two nodes share
+    as ``1 − τ`` and ``τ``). A bar's row is linear (its ``H_r`` zero): the layouts' Hessians blend its two nodes'
+    second derivatives, not their products.
 
     Attributes
     ----------
     nodes : ndarray of int, shape (m,)
-        Node ``k_r`` of every row (1..n; the base node is fixed and never a row).
+        Node ``k_r`` of every row (1..n; the base node is fixed and never a row; a bar's row: its first node, 1..n−1).
     directions : ndarray, shape (m, 2)
         ``d_r`` (dimensionless; a unit vector or a coordinate axis).
     lb, ub : ndarray, shape (m,)
@@ -54,6 +60,8 @@ class NodeRows:
         ``H_r`` (1/mm), symmetric; None for linear rows.
     centres : ndarray, shape (m, 2), or None
         ``c_r`` (mm), where the quadratic model is taken; None for linear rows.
+    fractions : ndarray, shape (m,), or None
+        ``τ_r`` in [0, 1] (0: the node itself); None: every row on its node.
     """
 
     nodes: IntArray
@@ -62,15 +70,37 @@ class NodeRows:
     ub: FloatArray
     hessians: FloatArray | None = None
     centres: FloatArray | None = None
+    fractions: FloatArray | None = None
+
+    def __post_init__(self) -> None:
+        tau = self.fractions
+        if tau is None:
+            return
+        if tau.shape != self.nodes.shape or np.any((tau < 0.0) | (tau > 1.0)):
+            raise ValueError("NodeRows.fractions: one τ in [0, 1] per row")
+        if np.any(self.nodes[tau > 0.0] < 1):
+            raise ValueError("NodeRows.fractions: a bar's row starts at node 1 or later (the base node is fixed)")
+        if self.hessians is not None and np.any(self.hessians[tau > 0.0]):
+            raise ValueError("NodeRows.fractions: a bar's row (τ > 0) must be linear (its Hessian zero)")
 
     @property
     def linear(self) -> bool:
         """Whether the rows are linear in the node positions."""
         return self.hessians is None
 
+    def row_points(self, nodes: FloatArray) -> FloatArray:
+        """The rows' points ``q_r`` for node positions ``nodes`` (shape (n + 1, 2)), shape (m, 2)."""
+        p = nodes[self.nodes]
+        tau = self.fractions
+        if tau is None:
+            return p
+        bar = np.flatnonzero(tau)
+        p[bar] += tau[bar, None] * (nodes[self.nodes[bar] + 1] - p[bar])
+        return p
+
     def values(self, points: FloatArray) -> FloatArray:
         """Row values at node positions ``points`` (shape (n + 1, 2)), shape (m,)."""
-        p = points[self.nodes]
+        p = self.row_points(points)
         out = np.einsum("ij,ij->i", p, self.directions)
         if self.hessians is not None:
             q = p - self.centres
@@ -78,10 +108,29 @@ class NodeRows:
         return out
 
     def gradients(self, points: FloatArray) -> FloatArray:
-        """``∂ row / ∂p_k`` at ``points``: ``d + H (p − c)``, shape (m, 2)."""
+        """``∂ row / ∂q_r`` at ``points``: ``d + H (q − c)``, shape (m, 2) (the gradient in ``p_{k_r}`` and
+        ``p_{k_r + 1}`` is this times ``1 − τ_r`` and ``τ_r``: :meth:`spread`)."""
         if self.hessians is None:
             return self.directions
-        return self.directions + np.einsum("iab,ib->ia", self.hessians, points[self.nodes] - self.centres)
+        return self.directions + np.einsum("iab,ib->ia", self.hessians, self.row_points(points) - self.centres)
+
+    def spread(self) -> tuple[IntArray, IntArray, FloatArray]:
+        """The rows' nodes with their weights in ``q_r``: ``(row, node, weight)`` arrays, one entry per row and node
+        (a node row: its node, weight 1; a bar's row: ``k_r`` with ``1 − τ_r`` and ``k_r + 1`` with ``τ_r``)."""
+        rows = np.arange(self.nodes.size)
+        tau = self.fractions
+        if tau is None:
+            return rows, self.nodes, np.ones(self.nodes.size)
+        bar = np.flatnonzero(tau)
+        return (np.concatenate((rows, bar)), np.concatenate((self.nodes, self.nodes[bar] + 1)),
+                np.concatenate((1.0 - tau, tau[bar])))
+
+    def add_to_nodes(self, per_row: FloatArray, out: FloatArray) -> FloatArray:
+        """``out`` (shape (n + 1, 2)) with each row's vector of ``per_row`` (shape (m, 2): a force ``λ_r d_r``) added
+        to its node, or shared between its bar's two nodes (:meth:`spread`); returns ``out``."""
+        rows, nodes, weights = self.spread()
+        np.add.at(out, nodes, weights[:, None] * per_row[rows])
+        return out
 
 
 @dataclass(frozen=True)

@@ -242,18 +242,28 @@ class FullLayout:
         k, m, scale = rows.nodes, rows.nodes.size, self.scale
         cols = np.column_stack((_x(k), _y(k))).ravel()
         row_index = np.repeat(np.arange(m), 2)
+        spread = None
+        if rows.fractions is not None:  # a bar's row: entries at its two nodes, weighted 1 − τ and τ
+            spread = rows.spread()
+            row_index, cols = np.repeat(spread[0], 2), np.column_stack((_x(spread[1]), _y(spread[1]))).ravel()
+
+        def entries(g: FloatArray) -> FloatArray:
+            """The Jacobian's entries for the rows' gradients ``g`` in their points (shape (m, 2))."""
+            return g.ravel() if spread is None else (spread[2][:, None] * g[spread[0]]).ravel()
+
         if rows.linear:
-            A = sp.csr_matrix((scale * rows.directions.ravel(), (row_index, cols)), shape=(m, self.size))
+            A = sp.csr_matrix((scale * entries(rows.directions), (row_index, cols)), shape=(m, self.size))
             A.eliminate_zeros()
             return LinearConstraint(A, rows.lb, rows.ub)
         size = self.size
-        hess_rows, hess_cols = np.repeat(cols.reshape(m, 2), 2, axis=1).ravel(), np.tile(cols.reshape(m, 2), 2).ravel()
+        own = np.column_stack((_x(k), _y(k)))  # a row's Hessian block sits at its node (a bar's row has none)
+        hess_rows, hess_cols = np.repeat(own, 2, axis=1).ravel(), np.tile(own, 2).ravel()
 
         def value(z: FloatArray) -> FloatArray:
             return rows.values(self.nodes(z))
 
         def jac(z: FloatArray) -> sp.csr_matrix:
-            return sp.csr_matrix((scale * rows.gradients(self.nodes(z)).ravel(), (row_index, cols)), shape=(m, size))
+            return sp.csr_matrix((scale * entries(rows.gradients(self.nodes(z))), (row_index, cols)), shape=(m, size))
 
         def hess(z: FloatArray, v: FloatArray) -> sp.csc_matrix:
             data = (scale**2 * np.asarray(v, dtype=float)[:, None, None] * rows.hessians).ravel()
@@ -284,8 +294,13 @@ class FullLayout:
                 value = r.values(p)
                 delta = np.clip(value, lo, hi) - value
                 if np.any(delta != 0.0):  # (a row's direction is nonzero: a unit normal or a coordinate axis)
-                    np.add.at(p, r.nodes, (delta / np.einsum("ij,ij->i", r.directions, r.directions))[:, None]
-                              * r.directions)
+                    if r.fractions is None:
+                        np.add.at(p, r.nodes, (delta / np.einsum("ij,ij->i", r.directions, r.directions))[:, None]
+                                  * r.directions)
+                    else:  # a bar's row: the least change of its two nodes that moves its point by delta
+                        share = (1.0 - r.fractions) ** 2 + r.fractions**2
+                        r.add_to_nodes((delta / (share * np.einsum("ij,ij->i", r.directions, r.directions)))[:, None]
+                                       * r.directions, p)
                     moved = moved or bool(np.any((value < lo) & ~equal | (value > hi) & ~equal))
             if not moved:
                 break
@@ -303,7 +318,7 @@ class FullLayout:
         for block, lam in zip(blocks, per_block, strict=True):
             rows = block.rows(self.model)
             if isinstance(rows, NodeRows):
-                np.add.at(force, rows.nodes, np.asarray(lam, dtype=float)[:, None] * rows.directions)
+                rows.add_to_nodes(np.asarray(lam, dtype=float)[:, None] * rows.directions, force)
         closure = -np.cumsum(force[::-1], axis=0)[::-1][1:].ravel()
         return [closure, *(np.asarray(v, dtype=float) for v in per_block)]
 
@@ -363,7 +378,13 @@ class FullLayout:
                 r_parts.append(A @ phi - bound)
             else:
                 d = rows.gradients(points)[active]
-                J_parts.append(np.einsum("mi,min->mn", d, chain.node_jacobian(phi, rows.nodes[active])))
+                J = chain.node_jacobian(phi, rows.nodes[active])
+                if rows.fractions is not None:  # a bar's row: ∂q/∂φ adds τ times bar k + 1's column
+                    tau, k = rows.fractions[active], rows.nodes[active]
+                    bar = np.flatnonzero(tau)
+                    J[bar, :, k[bar]] = tau[bar, None] * chain.node_jacobian(phi, k[bar] + 1)[
+                        np.arange(bar.size), :, k[bar]]
+                J_parts.append(np.einsum("mi,min->mn", d, J))
                 r_parts.append(rows.values(points)[active] - bound)
         return np.vstack(J_parts), np.concatenate(r_parts)
 

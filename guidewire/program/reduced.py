@@ -82,6 +82,20 @@ def nonlinear_rows(value: Any, jac: Any, hess: Any, lb: FloatArray, ub: FloatArr
     return NonlinearConstraint(value, lb, ub, jac=jac, hess=hess)
 
 
+def _row_mask(n: int, rows: NodeRows) -> NDArray[Any]:
+    """``∂q_r/∂φ_j`` per bar ``j`` in units of ``l_j (−sin φ_j, cos φ_j)``, shape (m, n): 1 for the bars up to the
+    row's node ``k_r`` (a node depends on every earlier bar), and ``τ_r`` for bar ``k_r + 1`` of a bar's row —
+    boolean when every row is on a node."""
+    k = rows.nodes
+    mask = np.arange(n)[None, :] < k[:, None]  # bar j+1 ≤ node k
+    if rows.fractions is None:
+        return mask
+    out = mask.astype(float)
+    bar = np.flatnonzero(rows.fractions)
+    out[bar, k[bar]] = rows.fractions[bar]
+    return out
+
+
 def _curvature_term(chain: Any, phi: FloatArray, nodes: IntArray, weighted: FloatArray) -> FloatArray:
     """``Σ_r (∂p_{k_r}/∂φ)ᵀ W_r (∂p_{k_r}/∂φ)`` for 2 × 2 matrices ``W_r``, dense (n, n): with
     ``e_j = l_j (−sin φ_j, cos φ_j)`` and ``S_j = Σ_{k_r ≥ j} W_r`` (a suffix sum), entry ``(i, j)`` is
@@ -152,7 +166,8 @@ class ReducedLayout:
     def node_rows(self, rows: NodeRows) -> Any:
         chain, point = self.model.chain, self.point
         k = rows.nodes
-        mask = np.arange(chain.n_bars)[None, :] < k[:, None]  # bar j+1 ≤ node k
+        mask = _row_mask(chain.n_bars, rows)
+        spread = None if rows.fractions is None else rows.spread()
 
         def value(phi: FloatArray) -> FloatArray:
             return rows.values(point.at(phi).nodes)
@@ -170,11 +185,16 @@ class ReducedLayout:
         def hess(phi: FloatArray, v: FloatArray) -> Any:
             v = np.asarray(v, dtype=float)
             at = point.at(phi)
+            d = rows.directions if rows.linear else rows.gradients(at.nodes)
+            if spread is None:
+                diagonal = chain.node_hessian_diagonal(phi, k, v[:, None] * d, (at.cos, at.sin))
+            else:  # a bar's row: the blend of its two nodes' second derivatives
+                r, nodes, weights = spread
+                diagonal = chain.node_hessian_diagonal(phi, nodes, (weights * v[r])[:, None] * d[r], (at.cos, at.sin))
             if rows.linear:
-                return _diagonal(chain.node_hessian_diagonal(phi, k, v[:, None] * rows.directions, (at.cos, at.sin)))
-            d = rows.gradients(at.nodes)
-            out = _curvature_term(chain, phi, k, v[:, None, None] * rows.hessians)
-            out[np.diag_indices_from(out)] += chain.node_hessian_diagonal(phi, k, v[:, None] * d, (at.cos, at.sin))
+                return _diagonal(diagonal)
+            out = _curvature_term(chain, phi, k, v[:, None, None] * rows.hessians)  # (a bar's row: H zero)
+            out[np.diag_indices_from(out)] += diagonal
             return out
 
         return nonlinear_rows(value, jac, hess, rows.lb, rows.ub)

@@ -38,5 +38,5 @@ class Angle(Block):
         theta = np.array([model.scene.contacts[i].angle for i in self.members], dtype=float)
         return AngleRows(A, theta, theta)
 
-    def add_loads(self, model: Model, lam: FloatArray, loads: Loads) -> None:
+    def add_loads(self, model: Model, lam: FloatArray, loads: Loads, points: FloatArray) -> None:
         loads.moments.update(zip(self.members, np.asarray(lam, dtype=float).tolist(), strict=True))

@@ -7,8 +7,8 @@ once as *rows*, in one of two forms that both program layouts know how to state
 
 :class:`NodeRows`
     ``lb ≤ d_r · p_{k_r} ≤ ub`` — linear in a node position ``p_k`` (mm), one direction ``d_r`` per row. Nonlinear
-    in ``φ`` (``p_k`` is a sum of ``l_j (cos φ_j, sin φ_j)``), linear in the full space. A row may instead hold a
-    point of a bar, ``(1 − τ) p_k + τ p_{k+1}`` (a bar's contact with a vessel's corner).
+    in ``φ`` (``p_k`` is a sum of ``l_j (cos φ_j, sin φ_j)``), linear in the full space. A row may instead be a
+    bar's distance from a point (a vessel's corner), quadratic in the bar's two nodes.
 :class:`AngleRows`
     ``lb ≤ A φ ≤ ub`` — linear in the bar angles in both layouts.
 
@@ -38,30 +38,45 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int_]
 
 
+def perp(v: FloatArray) -> FloatArray:
+    """``v`` turned a quarter counter-clockwise, ``(−v_y, v_x)``, for (…, 2) arrays."""
+    return np.stack((-v[..., 1], v[..., 0]), axis=-1)
+
+
+#: ``∂² (a × b) / ∂a ∂b`` for 2-vectors (``a × b = a_x b_y − a_y b_x``).
+CROSS = np.array([[0.0, 1.0], [-1.0, 0.0]])
+
+
 @dataclass(frozen=True)
 class NodeRows:
-    """Rows ``lb ≤ d_r · q_r + ½ (q_r − c_r)ᵀ H_r (q_r − c_r) ≤ ub`` on points ``q_r`` of the wire: linear (``H``
-    None: walls, contact positions) or a quadratic model of a curved boundary around ``c_r`` (a lumen).
+    """Rows ``lb ≤ g_r ≤ ub`` on the wire's nodes, of two forms:
 
-    ``q_r`` is the node ``p_{k_r}``, or with :attr:`fractions` the point ``(1 − τ_r) p_{k_r} + τ_r p_{k_r + 1}`` of the
-    bar between nodes ``k_r`` and ``k_r + 1`` (a bar's contact with a vessel's corner, whose force the two nodes share
-    as ``1 − τ`` and ``τ``). A bar's row is linear (its ``H_r`` zero): the layouts' Hessians blend its two nodes'
-    second derivatives, not their products.
+    a node's row
+        ``g_r = d_r · p_k + ½ (p_k − c_r)ᵀ H_r (p_k − c_r)`` at node ``k = k_r``: linear (``H`` None: walls,
+        contact positions) or a quadratic model of a curved boundary around ``c_r`` (a lumen);
+    a bar's row (:attr:`turns` ``ω_r ≠ 0``)
+        ``g_r = ω_r (p_{k+1} − p_k) × (a_r − p_k)``: with ``ω_r = ±1/l`` the signed distance of the point ``a_r``
+        (a vessel's corner) from the line of the bar from node ``k`` to ``k + 1`` — exact, and quadratic in the two
+        nodes, wherever the bar keeps its length ``l`` (always in the reduced layout; where the closure rows hold in
+        the full space). Its force acts at the foot ``(1 − τ_r) p_k + τ_r p_{k+1}`` along ``d_r``, which the two nodes
+        share as ``1 − τ`` and ``τ`` (:meth:`add_to_nodes`).
 
     Attributes
     ----------
     nodes : ndarray of int, shape (m,)
         Node ``k_r`` of every row (1..n; the base node is fixed and never a row; a bar's row: its first node, 1..n−1).
     directions : ndarray, shape (m, 2)
-        ``d_r`` (dimensionless; a unit vector or a coordinate axis).
+        ``d_r`` (dimensionless; a unit vector or a coordinate axis); of a bar's row, its force's direction.
     lb, ub : ndarray, shape (m,)
         Bounds in mm (``-inf``/``inf`` for none; ``lb == ub`` for an equality row).
     hessians : ndarray, shape (m, 2, 2), or None
-        ``H_r`` (1/mm), symmetric; None for linear rows.
+        ``H_r`` (1/mm), symmetric (zero for a bar's row); None for linear rows.
     centres : ndarray, shape (m, 2), or None
         ``c_r`` (mm), where the quadratic model is taken; None for linear rows.
     fractions : ndarray, shape (m,), or None
-        ``τ_r`` in [0, 1] (0: the node itself); None: every row on its node.
+        ``τ_r`` in [0, 1] of a bar's row (0 for a node's row); None without bar rows.
+    pivots, turns : ndarray, shapes (m, 2) and (m,), or None
+        ``a_r`` (mm) and ``ω_r`` (1/mm; 0 for a node's row) of the bar rows; None without.
     """
 
     nodes: IntArray
@@ -71,57 +86,81 @@ class NodeRows:
     hessians: FloatArray | None = None
     centres: FloatArray | None = None
     fractions: FloatArray | None = None
+    pivots: FloatArray | None = None
+    turns: FloatArray | None = None
 
     def __post_init__(self) -> None:
-        tau = self.fractions
-        if tau is None:
+        if self.turns is None:
+            if self.fractions is not None or self.pivots is not None:
+                raise ValueError("NodeRows: fractions and pivots belong to bar rows (turns)")
             return
-        if tau.shape != self.nodes.shape or np.any((tau < 0.0) | (tau > 1.0)):
-            raise ValueError("NodeRows.fractions: one τ in [0, 1] per row")
-        if np.any(self.nodes[tau > 0.0] < 1):
-            raise ValueError("NodeRows.fractions: a bar's row starts at node 1 or later (the base node is fixed)")
-        if self.hessians is not None and np.any(self.hessians[tau > 0.0]):
-            raise ValueError("NodeRows.fractions: a bar's row (τ > 0) must be linear (its Hessian zero)")
+        bar = self.turns != 0.0
+        if self.hessians is None or self.fractions is None or self.pivots is None:
+            raise ValueError("NodeRows: bar rows (turns) need hessians (zero for them), fractions and pivots")
+        tau = self.fractions
+        if tau.shape != self.nodes.shape or np.any((tau < 0.0) | (tau > 1.0)) or np.any(tau[~bar]):
+            raise ValueError("NodeRows.fractions: one τ in [0, 1] per bar row, 0 for a node row")
+        if np.any(self.nodes[bar] < 1):
+            raise ValueError("NodeRows.turns: a bar's row starts at node 1 or later (the base node is fixed)")
+        if np.any(self.hessians[bar]):
+            raise ValueError("NodeRows.hessians: a bar's row has no H (its quadratic term is its own)")
 
     @property
     def linear(self) -> bool:
         """Whether the rows are linear in the node positions."""
         return self.hessians is None
 
+    @property
+    def bars(self) -> IntArray:
+        """The bar rows (indices, empty without)."""
+        return np.zeros(0, dtype=int) if self.turns is None else np.flatnonzero(self.turns)
+
     def row_points(self, nodes: FloatArray) -> FloatArray:
-        """The rows' points ``q_r`` for node positions ``nodes`` (shape (n + 1, 2)), shape (m, 2)."""
+        """Where each row's force acts for node positions ``nodes`` (shape (n + 1, 2)): its node, or a bar row's
+        foot, shape (m, 2)."""
         p = nodes[self.nodes]
-        tau = self.fractions
-        if tau is None:
-            return p
-        bar = np.flatnonzero(tau)
-        p[bar] += tau[bar, None] * (nodes[self.nodes[bar] + 1] - p[bar])
+        bar = self.bars
+        if bar.size:
+            p[bar] += self.fractions[bar, None] * (nodes[self.nodes[bar] + 1] - p[bar])
         return p
 
     def values(self, points: FloatArray) -> FloatArray:
         """Row values at node positions ``points`` (shape (n + 1, 2)), shape (m,)."""
-        p = self.row_points(points)
+        p = points[self.nodes]
         out = np.einsum("ij,ij->i", p, self.directions)
         if self.hessians is not None:
             q = p - self.centres
             out = out + 0.5 * np.einsum("ia,iab,ib->i", q, self.hessians, q)
+        bar = self.bars
+        if bar.size:
+            first, second = p[bar], points[self.nodes[bar] + 1]
+            e, w = second - first, self.pivots[bar] - first
+            out[bar] = self.turns[bar] * (e[:, 0] * w[:, 1] - e[:, 1] * w[:, 0])
         return out
 
     def gradients(self, points: FloatArray) -> FloatArray:
-        """``∂ row / ∂q_r`` at ``points``: ``d + H (q − c)``, shape (m, 2) (the gradient in ``p_{k_r}`` and
-        ``p_{k_r + 1}`` is this times ``1 − τ_r`` and ``τ_r``: :meth:`spread`)."""
+        """``∂g_r/∂p_{k_r}`` at ``points``: ``d + H (p − c)``, of a bar's row ``ω ⊥(a − p_{k+1})``; shape (m, 2)."""
         if self.hessians is None:
             return self.directions
-        return self.directions + np.einsum("iab,ib->ia", self.hessians, self.row_points(points) - self.centres)
+        out = self.directions + np.einsum("iab,ib->ia", self.hessians, points[self.nodes] - self.centres)
+        bar = self.bars
+        if bar.size:
+            out[bar] = self.turns[bar, None] * perp(self.pivots[bar] - points[self.nodes[bar] + 1])
+        return out
+
+    def next_gradients(self, points: FloatArray) -> FloatArray:
+        """``∂g_r/∂p_{k_r + 1}`` of the bar rows (:attr:`bars`) at ``points``: ``−ω ⊥(a − p_k)``, shape (bars, 2)."""
+        bar = self.bars
+        return -self.turns[bar, None] * perp(self.pivots[bar] - points[self.nodes[bar]])
 
     def spread(self) -> tuple[IntArray, IntArray, FloatArray]:
-        """The rows' nodes with their weights in ``q_r``: ``(row, node, weight)`` arrays, one entry per row and node
-        (a node row: its node, weight 1; a bar's row: ``k_r`` with ``1 − τ_r`` and ``k_r + 1`` with ``τ_r``)."""
+        """Where the rows' forces go: ``(row, node, weight)`` arrays, one entry per row and node (a node row: its
+        node, weight 1; a bar's row: ``k_r`` with ``1 − τ_r`` and ``k_r + 1`` with ``τ_r``)."""
         rows = np.arange(self.nodes.size)
-        tau = self.fractions
-        if tau is None:
+        bar = self.bars
+        if not bar.size:
             return rows, self.nodes, np.ones(self.nodes.size)
-        bar = np.flatnonzero(tau)
+        tau = self.fractions
         return (np.concatenate((rows, bar)), np.concatenate((self.nodes, self.nodes[bar] + 1)),
                 np.concatenate((1.0 - tau, tau[bar])))
 
@@ -232,8 +271,9 @@ class Block:
         """The rows, in the form both layouts state."""
         raise NotImplementedError
 
-    def add_loads(self, model: Model, lam: FloatArray, loads: Loads) -> None:
-        """Add what the multipliers ``lam`` of this block exert on the wire to ``loads`` (default: nothing)."""
+    def add_loads(self, model: Model, lam: FloatArray, loads: Loads, points: FloatArray) -> None:
+        """Add what the multipliers ``lam`` of this block exert on the wire, at node positions ``points`` (the
+        answer's), to ``loads`` (default: nothing)."""
 
     # -- shared ---------------------------------------------------------------------------------------------------
     @property
@@ -288,6 +328,14 @@ class Block:
         """Outward unit normals (shape (rows, 2)) of a block whose multipliers are normal contact forces at its
         nodes (walls, lumens), for :meth:`Solution.contacts`; None for the other kinds (default)."""
         return None
+
+    def contact_frames(self, scene: Any, points: FloatArray) -> tuple[FloatArray, FloatArray] | None:
+        """Outward unit normals (shape (rows, 2)) of a block whose multipliers are normal contact forces (walls,
+        lumens), and where on its bar each row touches the wire (``τ``, shape (rows,): the point ``(1 − τ) p_k + τ
+        p_{k+1}`` for the row's node ``k``; 0 at the node), at node positions ``points``, for
+        :meth:`Solution.contacts`; None for the other kinds (default: :meth:`contact_normals` at the nodes)."""
+        normals = self.contact_normals(scene)
+        return None if normals is None else (normals, np.zeros(normals.shape[0]))
 
     def advanced(self, bars: int) -> Block:
         """This block on the same wire ``bars`` bars longer at the entrance (insertion's warm start): rows that

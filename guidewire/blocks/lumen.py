@@ -35,20 +35,33 @@ and out through its outer wall (its answer had nodes up to 18 mm outside the lum
 round's start model nothing), and the rounds ran out after 20 s. Its row is on the nearest point of the lumen's boundary
 (:meth:`Vessel.nearest_boundary`: a wall point in no other tube's lumen), as a tangent line (curvature 0: that wall can
 belong to a tube the node is not in, whose curvature about the node means nothing); once the node comes near a wall,
-that wall is its deepest tube's and the row is exact again. A node beside a corner, inside neither tube by its
-clearance, keeps its nearest wall's row (what it is checked against is the deepest tube's clearance).
+that wall is its deepest tube's and the row is exact again.
 
 Where a branch leaves, its walls meet the parent's at a corner (:attr:`guidewire.vessel.Vessel.corners`) that no
 curvature describes: a bar between a node in the parent and one in the branch cuts through it while both nodes keep
 their clearance (measured on ``scenes/vessels/s_bend_branch.toml``: insertion steps from 40 mm on with a bar's
-midpoint 0.32 mm closer to the corner than the wire's radius, its energy swinging by 10 % as the nodes slid past the
-corner). A node near a corner ``C`` whose wedge of wall has the angle ``2φ`` (:attr:`Vessel.corner_angles`) needs
-``|p − C| ≥ √(r² + w²)``, ``w = max(l/2, (l − 2r cos φ)/(2 sin φ))``: with both nodes of a bar of length ``l`` that far
-from ``C`` and ``r`` from the walls, its chord passes ``C`` at ``r`` or more on the lumen's side (``l/2``, the sag
-rule's limit ``κ → ∞``) and is too short to span the wedge's two walls from one side to the other (the shortest such
-chord, symmetric about the wedge's bisector, has length ``2 sin φ √(R² − r²) + 2r cos φ``). Its row is the same
-quadratic model with ``D = |p − C|`` (Hessian ``t tᵀ/D``), for the nodes within the lumen's width (plus
-:data:`CORNER_BARS` bar lengths) of needing it.
+midpoint 0.32 mm closer to the corner than the wire's radius). The corner is kept at the wire's radius from the *bars*
+that pass it: a bar within :data:`BAR_ROW_REACH` bar lengths of touching corner ``C``, whose foot from ``C`` lies on
+it, gets a row on the distance of ``C`` from its line, ``(p_{k+1} − p_k) × (C − p_k) / l ≥ r`` (signed: positive on
+the lumen's side) — exact while the foot stays on the bar, quadratic in the bar's two nodes
+(:class:`~guidewire.blocks.base.NodeRows`), its force normal to the bar at the foot. A row on a node's distance
+from the corner instead (``|p − C| ≥ ρ``, with ``ρ`` large enough that no chord cuts the wedge) meets the wire at an
+angle and held it lengthwise, as friction would: past ``s_bend_branch``'s corner at 4 bars/mm the contacts held the
+wire with 0.1-0.6 N along its length, the entrance push read up to 0.6 N off ``dE/dL`` (negative while the energy
+rose), and the wire hooked on the corner (3.97 against 3.72 N·mm at 46 mm); with the bar rows the lengthwise force is
+below 2 mN at 2, 4 and 8 bars/mm and the push is ``dE/dL``. A node still gets a row on its distance from the corner
+(``≥ r``, Hessian ``t tᵀ/D``) where the bars' rows leave it exposed: the end of a close bar whose foot lies beyond it
+(the wire's kink rests on the corner), and every node within the lumen's width (plus :data:`CORNER_BARS` bar lengths)
+of the corner that is no end of a bar with a row (a node moves across the lumen in one round; a row there beside a
+bar's, nearly parallel to it as the foot nears the node, left the multipliers ill-defined). A node whose nearest
+boundary point is the corner (:meth:`Vessel.nearest_corner`: in the corner's cone) has no wall row, whose wall would
+run on through the opening.
+
+A bar's row holds while the foot stays on its bar, so a contact sliding over a corner moves from bar to bar one round
+at a time (a round ends when a foot has left its bar, :meth:`Lumen.refine`): pushing ``s_bend_branch``'s wire 0.5 mm
+past the corner at 4 bars/mm takes 3-8 rounds and 11-61 iterations a step, where the node rows took 1-2 and 3-10
+(34-46 mm: 1.6 s against 0.45 s); at 1 bar/mm along the aortic arch (20-250 mm), 212 iterations in 246 rounds
+against 215 in 248.
 
 Every node is checked against the true lumen before a shape is returned (:meth:`Lumen.violation`). Multiplier
 ``λ_r ≥ 0``: the wall's normal force on the row's node in N, along ``−n_r``.
@@ -78,11 +91,14 @@ CORNER_BARS = 3.0
 """A node gets a row on a wall corner when it is within the lumen's width there plus this many bar lengths of needing
 it (a node moves across the lumen, no farther, in one round)."""
 
-MIN_WEDGE = 0.1
-"""Least wedge angle (rad) a corner's rows assume (a thinner wedge of wall would need nodes ever farther away)."""
+BAR_ROW_REACH = 1.0
+"""A bar gets a row on its distance from a corner when it is within this many bar lengths of touching it (farther,
+the rows on its nodes' distance from the corner keep it away; a bar's row is a line through the corner, which a node
+far along the wire would meet where the wire bends: the arch's cold solve at 211 mm, 2 bars/mm, ran 24 rounds to
+INFEASIBLE with rows on every bar whose foot lay on it)."""
 
 KEY_STRIDE = 1 << 24
-"""Row keys: ``node + side × KEY_STRIDE`` (side 0 the nearest wall, 1 across, ``2 + c`` corner ``c``)."""
+"""Row keys: ``node + side × KEY_STRIDE`` (:attr:`Lumen.sides`)."""
 
 CACHES = ("_kept_rows", "_kept_slack")
 """What a :class:`Lumen` keeps besides its fields: its rows (:meth:`Lumen.rows`) and its last slack
@@ -114,19 +130,32 @@ def _bars(model: Model, nodes: IntArray) -> FloatArray:
     return np.maximum(lengths[np.minimum(nodes, lengths.size) - 1], lengths[np.minimum(nodes, lengths.size - 1)])
 
 
-def _corner_needed(model: Model, nodes: IntArray) -> FloatArray:
-    """Distance (mm) each node of ``nodes`` needs from each corner of the vessel, shape (nodes, corners):
-    ``√(r² + w²)``, ``w = max(l/2, (l − 2r cos φ)/(2 sin φ))`` with ``φ`` half the corner's wedge angle (module
-    docstring)."""
-    r, l = 0.5 * node_diameters(model, nodes)[:, None], _bars(model, nodes)[:, None]
-    half = 0.5 * np.clip(model.scene.vessel.corner_angles, MIN_WEDGE, np.pi)[None, :]
-    return np.hypot(r, np.maximum(0.5 * l, (l - 2.0 * r * np.cos(half)) / (2.0 * np.sin(half))))
+def _bar_radii(model: Model) -> FloatArray:
+    """The wire's radius (mm) on every bar 0..n−1 (bar ``j`` joins nodes ``j`` and ``j + 1``), at its midpoint."""
+    lengths = model.chain.lengths
+    return 0.5 * model.scene.wire.properties_at(model.chain.arc_lengths[:-1] + 0.5 * lengths).diameter
 
 
-def _corner_gaps(model: Model, points: FloatArray, nodes: IntArray) -> FloatArray:
-    """Distance (mm) of every node of ``nodes`` from every corner of the vessel, shape (nodes, corners)."""
-    corners = model.scene.vessel.corners
-    return np.hypot(points[nodes, None, 0] - corners[None, :, 0], points[nodes, None, 1] - corners[None, :, 1])
+def _corner_feet(points: FloatArray, corners: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """For every bar ``j`` (nodes ``j``, ``j + 1`` of ``points``) and corner: the foot parameter ``τ`` of the corner
+    on the bar's line (0 at node ``j``, 1 at node ``j + 1``), the bar's unit normal towards the corner (shape (bars,
+    corners, 2)) and the corner's distance from the bar as a segment (mm)."""
+    start, step = points[:-1, None, :], (points[1:] - points[:-1])[:, None, :]
+    length2 = np.maximum(np.einsum("bcj,bcj->bc", step, step), np.finfo(float).tiny)
+    rel = corners[None, :, :] - start
+    tau = np.einsum("bcj,bcj->bc", rel, step) / length2
+    gap = rel - np.clip(tau, 0.0, 1.0)[:, :, None] * step
+    left = np.stack((-step[..., 1], step[..., 0]), axis=-1) / np.sqrt(length2)[:, :, None]
+    side = np.where(np.einsum("bcj,bcj->bc", rel, left) >= 0.0, 1.0, -1.0)
+    return tau, side[:, :, None] * left, np.hypot(gap[..., 0], gap[..., 1])
+
+
+def _corner_slack(model: Model, points: FloatArray) -> FloatArray:
+    """The least clearance from the vessel's corners of each node's two bars, less the wire's radius there (mm, every
+    node 1..n): what the bar rows of the corners keep ≥ 0."""
+    _, _, distance = _corner_feet(points, model.scene.vessel.corners)
+    bars = np.min(distance, axis=1) - _bar_radii(model)
+    return np.minimum(bars, np.append(bars[1:], np.inf))
 
 
 @dataclass(frozen=True)
@@ -147,8 +176,14 @@ class Lumen(Block):
         Clearance each node needs (mm): ``d_k/2`` (its section's diameter) plus the chord sag.
     sides : ndarray of int, shape (rows,)
         What each row keeps the node from: 0 its nearest wall (where that lies in an opening, the nearest point of
-        the lumen's boundary: module docstring), 1 the wall across the lumen (:meth:`Vessel.far_side`),
-        ``2 + c`` the vessel's corner ``c`` (curvature inf). ``nodes`` holds a node once for each (in that order).
+        the lumen's boundary: module docstring), 1 the wall across the lumen (:meth:`Vessel.far_side`), ``2 + 2c``
+        the vessel's corner ``c``, from the bar between the row's node and the next, ``3 + 2c`` that corner from the
+        node. ``nodes`` holds a node once for each (in that order).
+    fractions : ndarray, shape (rows,)
+        Where on its bar a bar's row holds it (``τ`` of the corner's foot at the model, > 0); 0 for a node's row.
+    turns : ndarray, shape (rows,)
+        ``±1/l`` of a bar's row (the sign that makes its value the corner's distance on the side of ``−normal``), 0
+        for a node's row (:class:`~guidewire.blocks.base.NodeRows`).
     """
 
     kind: ClassVar[str] = "lumen"
@@ -158,6 +193,8 @@ class Lumen(Block):
     curvatures: FloatArray = field(default_factory=lambda: np.zeros(0), compare=False)
     needed: FloatArray = field(default_factory=lambda: np.zeros(0), compare=False)
     sides: IntArray = field(default_factory=lambda: np.zeros(0, dtype=int), compare=False)
+    fractions: FloatArray = field(default_factory=lambda: np.zeros(0), compare=False)
+    turns: FloatArray = field(default_factory=lambda: np.zeros(0), compare=False)
 
     @classmethod
     def build(cls, model: Model, working_set: WorkingSet = None) -> list[Block]:
@@ -195,24 +232,83 @@ class Lumen(Block):
                 wall = vessel.nearest_boundary(points[nodes[gone]])
                 wall_depth = depth.copy()  # (normal and curvature are copies already: fancy indexing)
                 normal[gone], wall_depth[gone], curvature[gone] = wall.normal, wall.distance, 0.0
-        parts = [(nodes, normal, wall_depth, curvature, np.zeros(nodes.size, dtype=int)),
+        # a node in a corner's cone (the corner its nearest wall point) has a row on its distance from the corner
+        # instead of a wall row, whose point (the nearest wall or boundary sample) lies off the corner in an opening
+        cone, _ = vessel.nearest_corner(points[nodes], near.take(nodes - 1))
+        wall_row = cone < 0
+        zero = np.zeros(nodes.size)
+        parts = [(nodes[wall_row], normal[wall_row], wall_depth[wall_row], curvature[wall_row],
+                  np.zeros(int(wall_row.sum()), dtype=int), zero[wall_row], zero[wall_row]),
                  (nodes[keep], far.normal[keep], far.distance[keep], far.curvature[keep],
-                  np.ones(int(keep.sum()), dtype=int))]
+                  np.ones(int(keep.sum()), dtype=int), zero[keep], zero[keep])]
+        corner_needed: list[FloatArray] = []
         if vessel.corners.size:
-            gaps = _corner_gaps(model, points, nodes)
-            width = depth + np.where(keep, far.distance, depth)
-            reach = width + CORNER_BARS * _bars(model, nodes)
-            corner_needed = _corner_needed(model, nodes)
-            k, c = np.nonzero(gaps - corner_needed <= reach[:, None])
-            toward = vessel.corners[c] - points[nodes[k]]
-            parts.append((nodes[k], toward / gaps[k, c, None], gaps[k, c], np.full(k.size, np.inf), 2 + c))
-        rows, normals, depths, curvatures, sides = (np.concatenate(column) for column in zip(*parts, strict=True))
+            parts += cls._corner_parts(model, nodes, points, depth + np.where(keep, far.distance, depth),
+                                       corner_needed)
+        rows, normals, depths, curvatures, sides, tau, turns = (np.concatenate(column)
+                                                                for column in zip(*parts, strict=True))
         wall = sides < 2
         needed = _needed(model, np.where(wall, curvatures, 0.0), rows)
         if not wall.all():
-            needed[~wall] = corner_needed[k, c]
-        return cls((0,), rows, centres=points[rows].copy(), normals=normals, depths=depths, curvatures=curvatures,
-                   needed=needed, sides=sides)
+            needed[~wall] = np.concatenate(corner_needed)
+        centres = points[rows].copy()
+        bar = np.flatnonzero(tau)
+        centres[bar] += tau[bar, None] * (points[rows[bar] + 1] - centres[bar])
+        return cls((0,), rows, centres=centres, normals=normals, depths=depths, curvatures=curvatures,
+                   needed=needed, sides=sides, fractions=tau, turns=turns)
+
+    @staticmethod
+    def _corner_parts(model: Model, nodes: IntArray, points: FloatArray, width: FloatArray,
+                      needed: list[FloatArray]) -> list[tuple[Any, ...]]:
+        """The corners' rows (module docstring), as ``_modelled``'s parts, for the bars and nodes of ``nodes``; what
+        each row needs is appended to ``needed``. A bar within :data:`BAR_ROW_REACH` bar lengths of touching a corner,
+        whose foot ``q`` from it lies on the bar, gets a linear row at ``q`` along its normal towards the corner (the
+        bar ``r`` clear of it, its force normal to the bar and shared by its two nodes); every node within the lumen's
+        ``width`` (plus :data:`CORNER_BARS` bar lengths) of a corner a row on its distance from it (≥ the wire's
+        radius)."""
+        vessel = model.scene.vessel
+        corners = vessel.corners
+        tau, normal, distance = _corner_feet(points, corners)
+        # the bar belongs on the lumen's side of the corner: its row's normal points from the bar to the corner,
+        # unless the bar's foot lies inside the wedge of wall (the bar has crossed it): then away, to push it back
+        faces = vessel.corner_faces
+        into_wall = faces[:, 0] + faces[:, 1]
+        into_wall /= np.linalg.norm(into_wall, axis=1, keepdims=True)
+        foot = -(distance[:, :, None] * normal)
+        crossed = np.einsum("bcj,cj->bc", foot, into_wall) > distance * np.cos(0.5 * vessel.corner_angles)[None, :]
+        normal = np.where(crossed[:, :, None], -normal, normal)
+        radius = _bar_radii(model)
+        member = np.zeros(model.n + 2, dtype=bool)
+        member[nodes] = True
+        close = (distance - radius[:, None] <= BAR_ROW_REACH * model.chain.lengths[:, None]) & (
+            member[:-2] | member[1:-1])[:, None]  # bar j: nodes j and j + 1
+        close[0] = False  # (the first bar leaves the fixed base node: the entrance lies far from any corner)
+        on_bar = close & (tau >= 0.0) & (tau <= 1.0)
+        j, c = np.nonzero(on_bar)
+        n_jc = normal[j, c]
+        q = points[j] + tau[j, c, None] * (points[j + 1] - points[j])
+        step = points[j + 1] - points[j]
+        sign = np.sign(np.einsum("ij,ij->i", n_jc, np.column_stack((-step[:, 1], step[:, 0]))))
+        parts = [(j, n_jc, np.einsum("ij,ij->i", n_jc, corners[c] - q), np.zeros(j.size), 2 + 2 * c,
+                  np.clip(tau[j, c], 0.0, 1.0), sign / model.chain.lengths[j])]
+        needed.append(radius[j])
+        toward = corners[None, :, :] - points[nodes][:, None, :]
+        gap = np.hypot(toward[..., 0], toward[..., 1])
+        r = 0.5 * node_diameters(model, nodes)
+        near = gap - r[:, None] <= (width + CORNER_BARS * _bars(model, nodes))[:, None]
+        # a node of a bar with a row on the same corner needs none: the bar's row keeps it farther, and a second row
+        # there, nearly parallel to the bar's when the foot nears the node, left the multipliers ill-defined (28 to
+        # 61 iterations a step past s_bend_branch's corner at 4 bars/mm, with as many rounds); but the end of a close
+        # bar whose foot lies beyond it is that bar's nearest point: its row there is the node's
+        held = np.zeros((model.n + 2, corners.shape[0]), dtype=bool)
+        held[j, c], held[j + 1, c] = True, True
+        jo, co = np.nonzero(close & ~on_bar)
+        held[np.where(tau[jo, co] < 0.0, jo, jo + 1), co] = False
+        i, c = np.nonzero(near & ~held[nodes])
+        parts.append((nodes[i], toward[i, c] / np.maximum(gap[i, c], np.finfo(float).tiny)[:, None], gap[i, c],
+                      np.zeros(i.size), 2 + 2 * c + 1, np.zeros(i.size), np.zeros(i.size)))
+        needed.append(r[i])
+        return parts
 
     def __getstate__(self) -> dict[str, Any]:
         """The fields only (what pickling and copying keep): the cached rows and slack are rebuilt on demand."""
@@ -228,34 +324,41 @@ class Lumen(Block):
         alone; the program, the refinement and the loads all read them): read-only arrays."""
         built = self.__dict__.get("_kept_rows")
         if built is None:
-            built = self._build_rows()
+            built = self._build_rows(model.scene.vessel.corners)
             for array in (built.directions, built.lb, built.ub, built.hessians):
                 array.flags.writeable = False
             object.__setattr__(self, "_kept_rows", built)  # (a cache, not a field: not compared, copied or pickled)
         return built
 
-    def _build_rows(self) -> NodeRows:
+    def _build_rows(self, corners: FloatArray) -> NodeRows:
         tangent = np.column_stack((-self.normals[:, 1], self.normals[:, 0]))
-        wall = np.isfinite(self.curvatures)
+        wall = self.sides < 2
         kappa = np.where(wall, self.curvatures, 0.0)
+        radial = (self.sides >= 2) & (self.sides % 2 == 1)  # a node's distance from a corner
         weight = np.where(wall, kappa / np.maximum(1.0 + kappa * self.depths, MIN_DENOMINATOR),
-                          1.0 / np.maximum(self.depths, self.needed))  # a corner: |p − C|'s Hessian t tᵀ / D
+                          np.where(radial, 1.0 / np.maximum(self.depths, self.needed), 0.0))  # |p − C|: t tᵀ / D
         hessians = weight[:, None, None] * tangent[:, :, None] * tangent[:, None, :]
         d = -self.normals
         lb = self.needed - self.depths + np.einsum("ij,ij->i", d, self.centres)
-        return NodeRows(self.nodes, d, lb, np.full(self.size, np.inf), hessians=hessians, centres=self.centres)
+        if not np.any(self.turns):
+            return NodeRows(self.nodes, d, lb, np.full(self.size, np.inf), hessians=hessians, centres=self.centres)
+        bar = self.turns != 0.0
+        lb[bar] = self.needed[bar]  # (a bar's row is the corner's distance from the bar's line itself)
+        pivots = np.zeros((self.size, 2))
+        pivots[bar] = corners[self.sides[bar] // 2 - 1]
+        return NodeRows(self.nodes, d, lb, np.full(self.size, np.inf), hessians=hessians, centres=self.centres,
+                        fractions=self.fractions, pivots=pivots, turns=self.turns)
 
-    def add_loads(self, model: Model, lam: FloatArray, loads: Loads) -> None:
-        """The wall pushes node ``k`` with ``λ_k`` along the row's gradient (``−n`` at the model's centre)."""
+    def add_loads(self, model: Model, lam: FloatArray, loads: Loads, points: FloatArray) -> None:
+        """The wall pushes node ``k`` with ``λ_k`` along the row's gradient at the model's centre, ``d = −n``; a
+        corner pushes a bar with ``λ`` normal to it at ``points``, shared by its two nodes as ``1 − τ`` and ``τ``
+        (the foot there: :meth:`contact_frames`)."""
         rows = self.rows(model)
-        np.add.at(loads.node_forces, self.nodes, np.asarray(lam, dtype=float)[:, None] * rows.gradients(
-            self._points(model)))
-
-    def _points(self, model: Model) -> FloatArray:
-        """Node positions (n + 1, 2) with the rows' nodes at their model centres (where the loads are evaluated)."""
-        out = np.zeros((model.n + 1, 2))
-        out[self.nodes] = self.centres
-        return out
+        normals, fractions = self.contact_frames(model.scene, points)
+        bars = np.flatnonzero(self.turns)
+        if bars.size:
+            rows = replace(rows, directions=-normals, fractions=fractions)
+        rows.add_to_nodes(np.asarray(lam, dtype=float)[:, None] * rows.directions, loads.node_forces)
 
     def slack(self, model: Model, points: FloatArray) -> FloatArray:
         """True clearance minus the clearance needed, at every node 1..n (mm; negative: outside the lumen or too
@@ -264,8 +367,9 @@ class Lumen(Block):
         return self._slacks(model, points)[0]
 
     def wall_slack(self, model: Model, points: FloatArray) -> FloatArray:
-        """:meth:`slack` against the nearest wall alone, the vessel's corners left out (mm, every node 1..n): what a
-        wall row (side 0 or 1) models, so what :meth:`_touching_gap` compares it with. Kept with :meth:`slack`."""
+        """:meth:`slack` against the lumen's boundary alone, the bars' clearance from its corners left out (mm, every
+        node 1..n): what a node's wall row (side 0 or 1) models, so what :meth:`_touching_gap` compares it with.
+        Kept with :meth:`slack`."""
         return self._slacks(model, points)[1]
 
     def _slacks(self, model: Model, points: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -280,15 +384,18 @@ class Lumen(Block):
         return slack, wall
 
     def _slack(self, model: Model, points: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """The slack at every node against the walls and corners together, and against the nearest wall alone."""
+        """The slack at every node against the lumen's boundary and the bars' clearance from its corners together,
+        and against the boundary alone."""
         nodes = np.arange(1, model.n + 1)
         c = model.scene.vessel.clearance(points[1:])
         wall = c.distance - _needed(model, c.curvature, nodes)
-        slack = wall
-        if model.scene.vessel.corners.size:
-            gaps = _corner_gaps(model, points, nodes)
-            slack = np.minimum(wall, np.min(gaps - _corner_needed(model, nodes), axis=1))
-        return slack, wall
+        if not model.scene.vessel.corners.size:
+            return wall, wall
+        # (in a corner's cone the boundary is the corner: the node's distance from it, not its tube's clearance; a
+        # wall row there models a wall that is not there, whose gap to this sends the rounds on to re-model it)
+        cone, gap = model.scene.vessel.nearest_corner(points[1:], c)
+        wall = np.where(cone >= 0, gap - 0.5 * node_diameters(model, nodes), wall)
+        return np.minimum(wall, _corner_slack(model, points)), wall
 
     def violation(self, model: Model, phi: FloatArray, points: FloatArray | None = None,
                   rows: Any = None) -> FloatArray:
@@ -336,15 +443,36 @@ class Lumen(Block):
         rows = self.rows(model)
         model_slack = rows.values(points) - rows.lb
         true_slack = slack[self.nodes - 1]
-        corner = self.sides >= 2
-        if corner.any():
-            c = model.scene.vessel.corners[self.sides[corner] - 2]
-            true_slack[corner] = np.hypot(*(points[self.nodes[corner]] - c).T) - self.needed[corner]
+        corner = np.flatnonzero(self.sides >= 2)
+        if corner.size:
+            c, radial = np.divmod(self.sides[corner] - 2, 2)
+            radial = radial.astype(bool)
+            k = self.nodes[corner]
+            corners = model.scene.vessel.corners
+            true_slack[corner[radial]] = (np.hypot(*(points[k[radial]] - corners[c[radial]]).T)
+                                          - self.needed[corner[radial]])
+            on_bar = corner[~radial]
+            if on_bar.size:  # a bar's row: its bar's clearance from the corner (its line's while the foot is on it)
+                _, _, distance = _corner_feet(points, corners)
+                true_slack[on_bar] = distance[self.nodes[on_bar], c[~radial]] - self.needed[on_bar]
         touching = model_slack <= TOUCHING_BARS * float(np.max(model.chain.lengths))
         return np.where(touching, np.abs(true_slack - model_slack), 0.0)
 
-    def contact_normals(self, scene: Any) -> FloatArray:
-        return self.normals
+    def contact_frames(self, scene: Any, points: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """The rows' outward normals and where on its bar each touches the wire, at node positions ``points``: a
+        node's row its model's (exact at a converged answer, :meth:`refine`); a bar's row its bar's normal there
+        (on the model's side) and the corner's foot on it, clipped to the bar — the row is exact wherever the
+        foot lies on the bar, so the bar may have turned and slid under it since the row was made."""
+        bars = np.flatnonzero(self.turns)
+        if not bars.size:
+            return self.normals, self.fractions
+        tau, normal, _ = _corner_feet(points, scene.vessel.corners)
+        k, c = self.nodes[bars], self.sides[bars] // 2 - 1
+        normals, fractions = self.normals.copy(), self.fractions.copy()
+        turned = normal[k, c]
+        normals[bars] = np.where((np.einsum("ij,ij->i", turned, self.normals[bars]) >= 0.0)[:, None], turned, -turned)
+        fractions[bars] = np.clip(tau[k, c], 0.0, 1.0)
+        return normals, fractions
 
     def advanced(self, bars: int) -> Block:
         return replace(self, nodes=self.nodes + bars)

@@ -38,6 +38,6 @@ class Position(Block):
     def row_keys(self) -> IntArray:
         return np.arange(self.size)
 
-    def add_loads(self, model: Model, lam: FloatArray, loads: Loads) -> None:
+    def add_loads(self, model: Model, lam: FloatArray, loads: Loads, points: FloatArray) -> None:
         for i, force in zip(self.members, np.reshape(lam, (-1, 2)), strict=True):
             loads.forces[i] = force.copy()

@@ -58,7 +58,7 @@ class Wall(Block):
         return NodeRows(self.nodes, np.tile(-np.asarray(normal, dtype=float), (m, 1)), np.full(m, -offset),
                         np.full(m, np.inf))
 
-    def add_loads(self, model: Model, lam: FloatArray, loads: Loads) -> None:
+    def add_loads(self, model: Model, lam: FloatArray, loads: Loads, points: FloatArray) -> None:
         normal, _ = model.scene.walls[self.members[0]].unit()
         np.add.at(loads.node_forces, self.nodes, -np.asarray(lam, dtype=float)[:, None] * np.asarray(normal))
 

@@ -238,35 +238,42 @@ class FullLayout:
 
     def node_rows(self, rows: NodeRows) -> Any:
         """Linear rows as a ``LinearConstraint``; quadratic ones (a curved boundary) as a constraint with a sparse
-        Jacobian (two entries a row) and a 2 × 2 Hessian block per node."""
+        Jacobian (two entries a row, four for a bar's row) and a 2 × 2 Hessian block per node (a bar's row: between
+        its two nodes, the constant ``ω (p_k × p_{k+1})`` term)."""
         k, m, scale = rows.nodes, rows.nodes.size, self.scale
         cols = np.column_stack((_x(k), _y(k))).ravel()
         row_index = np.repeat(np.arange(m), 2)
-        spread = None
-        if rows.fractions is not None:  # a bar's row: entries at its two nodes, weighted 1 − τ and τ
-            spread = rows.spread()
-            row_index, cols = np.repeat(spread[0], 2), np.column_stack((_x(spread[1]), _y(spread[1]))).ravel()
-
-        def entries(g: FloatArray) -> FloatArray:
-            """The Jacobian's entries for the rows' gradients ``g`` in their points (shape (m, 2))."""
-            return g.ravel() if spread is None else (spread[2][:, None] * g[spread[0]]).ravel()
-
         if rows.linear:
-            A = sp.csr_matrix((scale * entries(rows.directions), (row_index, cols)), shape=(m, self.size))
+            A = sp.csr_matrix((scale * rows.directions.ravel(), (row_index, cols)), shape=(m, self.size))
             A.eliminate_zeros()
             return LinearConstraint(A, rows.lb, rows.ub)
         size = self.size
-        own = np.column_stack((_x(k), _y(k)))  # a row's Hessian block sits at its node (a bar's row has none)
-        hess_rows, hess_cols = np.repeat(own, 2, axis=1).ravel(), np.tile(own, 2).ravel()
+        hess_rows, hess_cols = np.repeat(cols.reshape(m, 2), 2, axis=1).ravel(), np.tile(cols.reshape(m, 2), 2).ravel()
+        bar = rows.bars
+        if bar.size:  # a bar's row: its second node's entries, and its cross term's blocks (k, k+1) and (k+1, k)
+            first, second = k[bar], k[bar] + 1
+            row_index = np.concatenate((row_index, np.repeat(bar, 2)))
+            cols = np.concatenate((cols, np.column_stack((_x(second), _y(second))).ravel()))
+            # ω (p_k × p_{k+1}): ∂²/∂x_k∂y_{k+1} = ω, ∂²/∂y_k∂x_{k+1} = −ω, and their mirror images
+            hess_rows = np.concatenate((hess_rows, _x(first), _y(first), _y(second), _x(second)))
+            hess_cols = np.concatenate((hess_cols, _y(second), _x(second), _x(first), _y(first)))
 
         def value(z: FloatArray) -> FloatArray:
             return rows.values(self.nodes(z))
 
         def jac(z: FloatArray) -> sp.csr_matrix:
-            return sp.csr_matrix((scale * entries(rows.gradients(self.nodes(z))), (row_index, cols)), shape=(m, size))
+            p = self.nodes(z)
+            data = rows.gradients(p).ravel()
+            if bar.size:
+                data = np.concatenate((data, rows.next_gradients(p).ravel()))
+            return sp.csr_matrix((scale * data, (row_index, cols)), shape=(m, size))
 
         def hess(z: FloatArray, v: FloatArray) -> sp.csc_matrix:
-            data = (scale**2 * np.asarray(v, dtype=float)[:, None, None] * rows.hessians).ravel()
+            v = np.asarray(v, dtype=float)
+            data = (scale**2 * v[:, None, None] * rows.hessians).ravel()
+            if bar.size:
+                w = scale**2 * v[bar] * rows.turns[bar]
+                data = np.concatenate((data, w, -w, w, -w))
             return sp.csc_matrix((data, (hess_rows, hess_cols)), shape=(size, size))
 
         return nonlinear_rows(value, jac, hess, rows.lb, rows.ub)
@@ -294,13 +301,8 @@ class FullLayout:
                 value = r.values(p)
                 delta = np.clip(value, lo, hi) - value
                 if np.any(delta != 0.0):  # (a row's direction is nonzero: a unit normal or a coordinate axis)
-                    if r.fractions is None:
-                        np.add.at(p, r.nodes, (delta / np.einsum("ij,ij->i", r.directions, r.directions))[:, None]
-                                  * r.directions)
-                    else:  # a bar's row: the least change of its two nodes that moves its point by delta
-                        share = (1.0 - r.fractions) ** 2 + r.fractions**2
-                        r.add_to_nodes((delta / (share * np.einsum("ij,ij->i", r.directions, r.directions)))[:, None]
-                                       * r.directions, p)
+                    np.add.at(p, r.nodes, (delta / np.einsum("ij,ij->i", r.directions, r.directions))[:, None]
+                              * r.directions)
                     moved = moved or bool(np.any((value < lo) & ~equal | (value > hi) & ~equal))
             if not moved:
                 break
@@ -378,13 +380,13 @@ class FullLayout:
                 r_parts.append(A @ phi - bound)
             else:
                 d = rows.gradients(points)[active]
-                J = chain.node_jacobian(phi, rows.nodes[active])
-                if rows.fractions is not None:  # a bar's row: ∂q/∂φ adds τ times bar k + 1's column
-                    tau, k = rows.fractions[active], rows.nodes[active]
-                    bar = np.flatnonzero(tau)
-                    J[bar, :, k[bar]] = tau[bar, None] * chain.node_jacobian(phi, k[bar] + 1)[
-                        np.arange(bar.size), :, k[bar]]
-                J_parts.append(np.einsum("mi,min->mn", d, J))
+                J = np.einsum("mi,min->mn", d, chain.node_jacobian(phi, rows.nodes[active]))
+                bar = rows.bars
+                if bar.size:  # a bar's row: its second node's part
+                    pick = np.flatnonzero(np.isin(active, bar))
+                    second = rows.next_gradients(points)[np.searchsorted(bar, active[pick])]
+                    J[pick] += np.einsum("mi,min->mn", second, chain.node_jacobian(phi, rows.nodes[active[pick]] + 1))
+                J_parts.append(J)
                 r_parts.append(rows.values(points)[active] - bound)
         return np.vstack(J_parts), np.concatenate(r_parts)
 

@@ -82,20 +82,6 @@ def nonlinear_rows(value: Any, jac: Any, hess: Any, lb: FloatArray, ub: FloatArr
     return NonlinearConstraint(value, lb, ub, jac=jac, hess=hess)
 
 
-def _row_mask(n: int, rows: NodeRows) -> NDArray[Any]:
-    """``∂q_r/∂φ_j`` per bar ``j`` in units of ``l_j (−sin φ_j, cos φ_j)``, shape (m, n): 1 for the bars up to the
-    row's node ``k_r`` (a node depends on every earlier bar), and ``τ_r`` for bar ``k_r + 1`` of a bar's row —
-    boolean when every row is on a node."""
-    k = rows.nodes
-    mask = np.arange(n)[None, :] < k[:, None]  # bar j+1 ≤ node k
-    if rows.fractions is None:
-        return mask
-    out = mask.astype(float)
-    bar = np.flatnonzero(rows.fractions)
-    out[bar, k[bar]] = rows.fractions[bar]
-    return out
-
-
 def _curvature_term(chain: Any, phi: FloatArray, nodes: IntArray, weighted: FloatArray) -> FloatArray:
     """``Σ_r (∂p_{k_r}/∂φ)ᵀ W_r (∂p_{k_r}/∂φ)`` for 2 × 2 matrices ``W_r``, dense (n, n): with
     ``e_j = l_j (−sin φ_j, cos φ_j)`` and ``S_j = Σ_{k_r ≥ j} W_r`` (a suffix sum), entry ``(i, j)`` is
@@ -109,6 +95,19 @@ def _curvature_term(chain: Any, phi: FloatArray, nodes: IntArray, weighted: Floa
     out = e @ w.T  # e_iᵀ S_j e_j, one (n × 2)(2 × n) product: right for j ≥ i
     np.copyto(out, out.T.copy(), where=_below_diagonal(n))  # mirrored below (3.6x faster than np.where at n = 250)
     return out
+
+
+def _add_bar_cross_terms(out: FloatArray, chain: Any, phi: FloatArray, after: IntArray, weights: FloatArray) -> None:
+    """Add ``Σ_b w_b ∂²[(p_{k+1} − p_k) × (a − p_k)]/∂φ²``'s part from the product of the two nodes' derivatives to
+    ``out`` (n, n): ``(p_k, p_{k+1})`` enter as ``p_k × p_{k+1}``, whose second derivative, with ``∂p_{k+1}/∂φ =
+    ∂p_k/∂φ + e_{k+1}`` (``e_j = l_j (−sin φ_j, cos φ_j)`` in column ``j``) and ``e_i × e_i = 0``, is
+    ``e_i × e_{k+1}`` at ``(i, k+1)`` and ``(k+1, i)`` for every ``i ≤ k`` — one row and column per bar row, O(n)
+    each. ``after`` holds ``k`` (the 0-based column of bar ``k + 1``)."""
+    e = chain.lengths[:, None] * np.column_stack((-np.sin(phi), np.cos(phi)))
+    cross = e[None, :, 0] * e[after, None, 1] - e[None, :, 1] * e[after, None, 0]  # (bars, n): e_i × e_{k+1}
+    cross *= (np.arange(e.shape[0])[None, :] < after[:, None]) * weights[:, None]
+    np.add.at(out, (slice(None), after), cross.T)
+    np.add.at(out, (after, slice(None)), cross)
 
 
 @functools.lru_cache(maxsize=8)
@@ -166,8 +165,9 @@ class ReducedLayout:
     def node_rows(self, rows: NodeRows) -> Any:
         chain, point = self.model.chain, self.point
         k = rows.nodes
-        mask = _row_mask(chain.n_bars, rows)
-        spread = None if rows.fractions is None else rows.spread()
+        mask = np.arange(chain.n_bars)[None, :] < k[:, None]  # bar j+1 ≤ node k
+        bar = rows.bars
+        after = k[bar]  # a bar row's second node k + 1 adds bar k + 1 (column k)
 
         def value(phi: FloatArray) -> FloatArray:
             return rows.values(point.at(phi).nodes)
@@ -175,26 +175,33 @@ class ReducedLayout:
         def jac(phi: FloatArray) -> FloatArray:
             at = point.at(phi)
             d = rows.directions if rows.linear else rows.gradients(at.nodes)
+            if bar.size:
+                second = rows.next_gradients(at.nodes)
+                d = d.copy()
+                d[bar] += second  # (node k + 1 depends on the bars up to k, like node k, and on bar k + 1)
             # mask · (d_x · (−l sin φ) + d_y · l cos φ), written into one (m, n) array (the same operations in
             # the same order as the expression; the dense Jacobian is the largest array of an iteration)
             out = np.multiply(d[:, 0:1], -at.lsin[None, :])
             out += np.multiply(d[:, 1:2], at.lcos[None, :])
             out *= mask
+            if bar.size:
+                out[bar, after] = second[:, 0] * -at.lsin[after] + second[:, 1] * at.lcos[after]
             return out
 
         def hess(phi: FloatArray, v: FloatArray) -> Any:
             v = np.asarray(v, dtype=float)
             at = point.at(phi)
-            d = rows.directions if rows.linear else rows.gradients(at.nodes)
-            if spread is None:
-                diagonal = chain.node_hessian_diagonal(phi, k, v[:, None] * d, (at.cos, at.sin))
-            else:  # a bar's row: the blend of its two nodes' second derivatives
-                r, nodes, weights = spread
-                diagonal = chain.node_hessian_diagonal(phi, nodes, (weights * v[r])[:, None] * d[r], (at.cos, at.sin))
             if rows.linear:
-                return _diagonal(diagonal)
-            out = _curvature_term(chain, phi, k, v[:, None, None] * rows.hessians)  # (a bar's row: H zero)
-            out[np.diag_indices_from(out)] += diagonal
+                return _diagonal(chain.node_hessian_diagonal(phi, k, v[:, None] * rows.directions, (at.cos, at.sin)))
+            d = rows.gradients(at.nodes)
+            out = _curvature_term(chain, phi, k, v[:, None, None] * rows.hessians)
+            if not bar.size:
+                out[np.diag_indices_from(out)] += chain.node_hessian_diagonal(phi, k, v[:, None] * d, (at.cos, at.sin))
+                return out
+            nodes, weights = np.concatenate((k, after + 1)), np.concatenate((d, rows.next_gradients(at.nodes)))
+            weights *= np.concatenate((v, v[bar]))[:, None]
+            out[np.diag_indices_from(out)] += chain.node_hessian_diagonal(phi, nodes, weights, (at.cos, at.sin))
+            _add_bar_cross_terms(out, chain, phi, after, v[bar] * rows.turns[bar])
             return out
 
         return nonlinear_rows(value, jac, hess, rows.lb, rows.ub)

@@ -196,19 +196,26 @@ class Solution:
     def contacts(self) -> list[dict[str, Any]]:
         """The wall and lumen contacts found: ``{node, s, point, normal, force_n}`` per touching node (force above
         :data:`CONTACT_FORCE`), ``normal`` the wall's outward unit normal and ``force_n`` the normal force (N) on
-        the wire, along ``−normal``; empty for a failed solve (no forces)."""
+        the wire, along ``−normal``; a bar's contact with a vessel's corner also ``fraction``, where on the bar from
+        ``node`` to the next it touches (``s`` and ``point`` are there). Empty for a failed solve (no forces)."""
         if not self.success:
             return []
         out = []
         for block, lam in zip(self.blocks, self.multipliers, strict=True):
-            normals = block.contact_normals(self.scene)
-            if normals is None:
+            frames = block.contact_frames(self.scene, self.nodes)
+            if frames is None:
                 continue
-            for k, force, n in zip(block.nodes, lam, normals, strict=True):
-                if force > CONTACT_FORCE:
-                    out.append({"node": int(k), "s": float(self.s[k]), "point": self.nodes[k].tolist(),
-                                "normal": [float(n[0]), float(n[1])], "force_n": float(force)})
-        return sorted(out, key=lambda c: c["node"])
+            normals, fractions = frames
+            for i in np.flatnonzero(np.asarray(lam) > CONTACT_FORCE):
+                k, n = int(block.nodes[i]), normals[i]
+                contact = {"node": k, "s": float(self.s[k]), "point": self.nodes[k].tolist(),
+                           "normal": [float(n[0]), float(n[1])], "force_n": float(lam[i])}
+                if fractions[i] > 0.0:
+                    tau = float(fractions[i])
+                    contact.update(fraction=tau, s=float((1.0 - tau) * self.s[k] + tau * self.s[k + 1]),
+                                   point=((1.0 - tau) * self.nodes[k] + tau * self.nodes[k + 1]).tolist())
+                out.append(contact)
+        return sorted(out, key=lambda c: c["s"])
 
     def axial_force(self) -> float | None:
         """The axial force in the wire at the base (N, positive in compression): the tangential component of the
@@ -247,9 +254,12 @@ class Solution:
         total = 0.0
         for contact in self.contacts():
             k = contact["node"]
-            if not 0 < k < angles.size:
+            if "fraction" in contact:  # a bar's contact: along its bar
+                t = np.array([np.cos(angles[k]), np.sin(angles[k])])
+            elif not 0 < k < angles.size:
                 continue
-            t = np.array([np.cos(angles[k - 1]) + np.cos(angles[k]), np.sin(angles[k - 1]) + np.sin(angles[k])])
+            else:
+                t = np.array([np.cos(angles[k - 1]) + np.cos(angles[k]), np.sin(angles[k - 1]) + np.sin(angles[k])])
             total += contact["force_n"] * float(np.dot(contact["normal"], t / np.linalg.norm(t)))
         return total
 
@@ -338,7 +348,7 @@ def _reactions(form: Formulation, phi: FloatArray, nodes: FloatArray, multiplier
     loads = Loads.empty(n)
     if multipliers is not None:
         for block, lam in zip(form.blocks, multipliers, strict=True):
-            block.add_loads(form.model, lam, loads)
+            block.add_loads(form.model, lam, loads, nodes)
     forces, moments = loads.forces, loads.moments
     # ∂E/∂θ* per node from the terms that contain a prescribed tangent (∂r_t/∂θ* = row sum of D_t).
     elastic = energy.joint_angles(phi) if elastic is None else elastic

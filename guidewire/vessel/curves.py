@@ -11,7 +11,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import CubicSpline, PchipInterpolator
 from scipy.spatial import cKDTree
 
@@ -64,6 +64,10 @@ class Clearance:
     normal: FloatArray
     boundary: FloatArray
     curvature: FloatArray
+
+    def take(self, index: ArrayLike) -> Clearance:
+        """The answers for the points ``index`` selects."""
+        return Clearance(self.distance[index], self.normal[index], self.boundary[index], self.curvature[index])
 
 
 # ----------------------------------------------------------------------------------------------------------------

@@ -146,8 +146,8 @@ class TubeGeometry:
         reach = [max(TAIL_REACH, TAIL_REACH_RADII * float(c.radius[-1])) for c in curves]
         self.tubes = Tubes(curves, head_open=[False] * len(curves), tail_open=[True] * len(curves), reach=reach)
         self.varying = np.array([np.ptp(rad) > 0.0 for _, rad, _ in lines])
-        self._corners: tuple[FloatArray, FloatArray] | None = None if len(curves) > 1 else (np.zeros((0, 2)),
-                                                                                           np.zeros(0))
+        self._corners: tuple[FloatArray, FloatArray, FloatArray] | None = None if len(curves) > 1 else (
+            np.zeros((0, 2)), np.zeros(0), np.zeros((0, 2, 2)))
         self._boundary: tuple[Any, FloatArray, FloatArray] | None = None
         if len(curves) > 1:
             main_only = Tubes(curves[:1], head_open=[False], tail_open=[True])
@@ -162,13 +162,14 @@ class TubeGeometry:
                     )
 
     @property
-    def corners(self) -> tuple[FloatArray, FloatArray]:
+    def corners(self) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Where two tubes' walls meet on the lumen's boundary (the wall's corners at a branch's opening), shape
         (c, 2) in mm, and the wall's angle at each (rad, < π: the wedge of wall between the lumen's two sides);
         computed once."""
         if self._corners is None:
             points = wall_corners(self.wall_lines(), self.clearance, float(self.tubes.rmax.max()))
-            self._corners = (points, wedge_angles(points, self.clearance, float(self.tubes.rmax.min())))
+            angles, faces = wedge(points, self.clearance, float(self.tubes.rmax.min()))
+            self._corners = (points, angles, faces)
         return self._corners
 
     @property
@@ -367,21 +368,28 @@ def wall_corners(lines: list[FloatArray], clearance: Any, scale: float) -> Float
 
 
 WEDGE_RAYS = 720
-"""Directions sampled around a corner to measure its wedge of wall (:func:`wedge_angles`), 0.5° apart."""
+"""Directions sampled around a corner to measure its wedge of wall (:func:`wedge`), 0.5° apart."""
 
 WEDGE_REACH = 1e-3
 """... at this fraction of the least tube radius from the corner."""
 
 
-def wedge_angles(points: FloatArray, clearance: Any, radius: float) -> FloatArray:
-    """The angle (rad) of the wedge of wall at each corner: the share of :data:`WEDGE_RAYS` directions around it
-    whose point at :data:`WEDGE_REACH` ``× radius`` lies outside the lumen, times 2π."""
+def wedge(points: FloatArray, clearance: Any, radius: float) -> tuple[FloatArray, FloatArray]:
+    """The angle (rad) of the wedge of wall at each corner — the share of :data:`WEDGE_RAYS` directions around it
+    whose point at :data:`WEDGE_REACH` ``× radius`` lies outside the lumen, times 2π — and the directions (unit
+    vectors, shape (corners, 2, 2)) of its two walls from the corner: the middles between the last ray inside and the
+    first outside at either edge of the wedge (to half a ray's angle)."""
     if not len(points):
-        return np.zeros(0)
+        return np.zeros(0), np.zeros((0, 2, 2))
     a = 2.0 * math.pi * (np.arange(WEDGE_RAYS) + 0.5) / WEDGE_RAYS
     probe = points[:, None, :] + WEDGE_REACH * radius * np.stack((np.cos(a), np.sin(a)), axis=1)[None]
     outside = clearance(probe.reshape(-1, 2)).distance.reshape(len(points), WEDGE_RAYS) < 0.0
-    return 2.0 * math.pi * outside.mean(axis=1)
+    step = 2.0 * math.pi / WEDGE_RAYS
+    enter = np.argmax(outside & ~np.roll(outside, 1, axis=1), axis=1)  # first ray outside after one inside
+    leave = np.argmax(~outside & np.roll(outside, 1, axis=1), axis=1)  # first ray inside after one outside
+    faces = np.stack([np.stack((np.cos(t), np.sin(t)), axis=-1)
+                      for t in (a[enter] - 0.5 * step, a[leave] - 0.5 * step)], axis=1)
+    return 2.0 * math.pi * outside.mean(axis=1), faces
 
 
 def curve_path(curve: Curve, s: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -509,7 +517,7 @@ class WallGeometry:
         return Clearance(distance=distance[pick, np.arange(m)], normal=-inward[flat], boundary=best["centre"][flat],
                          curvature=-side[flat] * kappa[flat])
 
-    corners = (np.zeros((0, 2)), np.zeros(0))
+    corners = (np.zeros((0, 2)), np.zeros(0), np.zeros((0, 2, 2)))
     """A two-wall lumen has no corners."""
 
     def far_side(self, p: FloatArray) -> Clearance:

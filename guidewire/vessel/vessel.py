@@ -288,6 +288,56 @@ class Vessel:
         """The angle (rad, 0 to π) of the wedge of wall at each of :attr:`corners`, shape (c,)."""
         return self._geometry.corners[1]
 
+    @property
+    def corner_faces(self) -> FloatArray:
+        """The directions (unit vectors) of the two walls that meet at each of :attr:`corners`, from the corner along
+        each wall, shape (c, 2, 2): a point inside the lumen whose offset from the corner has no positive component
+        along either has the corner as its nearest wall point."""
+        return self._geometry.corners[2]
+
+    def nearest_corner(self, points: ArrayLike, near: Clearance | None = None) -> tuple[NDArray[np.int_], FloatArray]:
+        """For each point inside: the corner (index into :attr:`corners`) that is its nearest point of the lumen's
+        boundary, or −1, and its distance from that corner (mm; inf for −1).
+
+        A point whose offset from a corner has no positive component along either wall that meets there
+        (:attr:`corner_faces`) lies in the corner's cone: the nearest point of both walls, as far as they are the
+        lumen's boundary, is the corner. It is the nearest boundary point unless :meth:`clearance`'s wall is nearer
+        and not in an opening (:meth:`opening`) — or the point lies farther from the corner than the widest tube's
+        diameter (its own tube has a nearer wall). ``near`` is :meth:`clearance` at ``points`` when the caller has it.
+        """
+        p = np.asarray(points, dtype=float).reshape(-1, 2)
+        corners = self.corners
+        index, found = np.full(p.shape[0], -1), np.full(p.shape[0], np.inf)
+        if not corners.size or not p.size:
+            return index, found
+        near = self.clearance(p) if near is None else near
+        offset = p[:, None, :] - corners[None]
+        gap = np.hypot(offset[..., 0], offset[..., 1])
+        # (the cone is unbounded; beyond the widest tube's diameter a point's own tube has a nearer wall)
+        cone = (gap <= 2.0 * float(self._geometry.tubes.rmax.max())) & (near.distance > 0.0)[:, None]
+        cone[cone] = np.all(np.einsum("mj,mfj->mf", offset[cone], self.corner_faces[np.nonzero(cone)[1]]) <= 0.0,
+                            axis=1)
+        distance = np.where(cone, gap, np.inf)
+        best = np.argmin(distance, axis=1)
+        nearest = distance[np.arange(p.shape[0]), best]
+        ask = np.flatnonzero(np.isfinite(nearest) & (near.distance < nearest))  # a wall nearer, if it is there
+        real = np.ones(p.shape[0], dtype=bool)
+        if ask.size:
+            real[ask] = ~self.opening(near.boundary[ask], near.distance[ask])
+        held = np.isfinite(nearest) & ~((near.distance < nearest) & real)
+        index[held], found[held] = best[held], nearest[held]
+        return index, found
+
+    def lumen_clearance(self, points: ArrayLike) -> FloatArray:
+        """Distance (mm, > 0 inside) of each point from the lumen's boundary, its corners included: :meth:`clearance`'s,
+        or the distance from the corner that is the nearest boundary point (:meth:`nearest_corner`) — where tubes
+        meet, the wall of the tube a point lies deepest in runs on through the opening, and a point beside the
+        opening's corner can be nearer that wall than the lumen's boundary is to it."""
+        p = np.asarray(points, dtype=float).reshape(-1, 2)
+        near = self.clearance(p)
+        index, gap = self.nearest_corner(p, near)
+        return np.where(index >= 0, gap, near.distance)
+
     def far_side(self, points: ArrayLike) -> Clearance:
         """The wall across the lumen from the nearest one, for points inside (mm, unit normals, 1/mm).
 

@@ -18,8 +18,9 @@ def arch() -> guidewire.Scene:
 
 
 def inside(scene: guidewire.Scene, solution: guidewire.Solution) -> None:
-    """Every node keeps the wire's radius from the lumen's wall (within the solve's tolerance)."""
-    clearance = scene.vessel.clearance(np.asarray(solution.nodes)[1:]).distance
+    """Every node keeps the wire's radius from the lumen's boundary, its corners included (within the solve's
+    tolerance)."""
+    clearance = scene.vessel.lumen_clearance(np.asarray(solution.nodes)[1:])
     assert clearance.min() >= 0.5 * scene.wire.diameter - 1e-5 * scene.wire.length
 
 

@@ -67,7 +67,7 @@ class Floor(Block):
         m = self.size
         return NodeRows(self.nodes, np.tile([0.0, 1.0], (m, 1)), np.full(m, self.level), np.full(m, np.inf))
 
-    def add_loads(self, model, lam, loads: Loads):
+    def add_loads(self, model, lam, loads: Loads, points):
         np.add.at(loads.node_forces, self.nodes, np.asarray(lam)[:, None] * np.array([0.0, 1.0]))
 
 

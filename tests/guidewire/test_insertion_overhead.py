@@ -70,7 +70,7 @@ def test_lumen_rows_and_slack_kept_equal_a_fresh_build_and_are_not_pickled(name,
     fresh = Lumen.build(model)[0]
     first, again = block.rows(model), block.rows(model)
     assert first is again and not first.lb.flags.writeable
-    other = fresh._build_rows()
+    other = fresh._build_rows(model.scene.vessel.corners)
     for a, b in ((first.directions, other.directions), (first.lb, other.lb), (first.hessians, other.hessians)):
         assert np.array_equal(a, b)
     rng = np.random.default_rng(3)

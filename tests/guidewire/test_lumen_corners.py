@@ -1,11 +1,10 @@
-"""Lumen rows modelled at a shape are exact there, also where a vessel's corner holds a node.
+"""Lumen rows modelled at a shape are exact there, also where a bar passes a vessel's corner.
 
-A lumen block's rows are second-order models of the wall (or of a corner's distance) centred at the nodes where they
-were made; :meth:`Lumen.refine` re-centres them until, at the answer, every row its node touches agrees with the
-constraint it models. That agreement must hold right after re-centring, or the working-set rounds never settle: a node
-held by a corner (its slack the corner's) whose wall row touches too was compared with the corner's slack and showed
-a gap equal to its wall clearance, which re-centring cannot close (the aortic arch inserted at 4 bars per mm ran out
-of rounds at 205-210 mm, warm and cold).
+A lumen block's rows are models of the wall (second order), of a node's distance from a corner, or of a bar's distance
+from a corner (exact while the corner's foot lies on the bar) made at the shape where they were built;
+:meth:`Lumen.refine` re-models them until, at the answer, every row its node touches agrees with the constraint it
+models — and a bar's row also with where its force acts (the foot) and its direction. That agreement must hold right
+after re-modelling, or the working-set rounds never settle.
 """
 
 from __future__ import annotations
@@ -16,46 +15,24 @@ import numpy as np
 import pytest
 
 import guidewire
-from guidewire.blocks.lumen import TOUCHING_BARS, Lumen, _corner_needed, _needed
+from guidewire.blocks.lumen import TOUCHING_BARS, Lumen
 from guidewire.program.model import build_model
 
 VESSELS = resources.files("guidewire") / "scenes" / "vessels"
 
 
-def _corner_point(model, corner: int, node: int, wall_slack: float) -> np.ndarray | None:
-    """A point inside the lumen at exactly the distance ``node`` needs from ``corner`` (its corner slack 0) whose
-    clearance from the nearest wall exceeds what the node needs there by ``wall_slack`` mm; None if the circle has
-    none."""
-    vessel = model.scene.vessel
-    centre, radius = vessel.corners[corner], float(_corner_needed(model, np.array([node]))[0, corner])
-
-    def excess(theta: np.ndarray) -> np.ndarray:
-        points = centre + radius * np.column_stack((np.cos(theta), np.sin(theta)))
-        c = vessel.clearance(points)
-        return c.distance - _needed(model, c.curvature, np.full(theta.size, node)) - wall_slack
-
-    theta = np.linspace(0.0, 2.0 * np.pi, 721)
-    values = excess(theta)
-    crossing = np.flatnonzero((values[:-1] < 0.0) & (values[1:] >= 0.0))
-    if not crossing.size:
-        return None
-    lo, hi = theta[crossing[0]], theta[crossing[0] + 1]
-    for _ in range(60):  # bisection on the wall clearance along the circle
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if excess(np.array([mid]))[0] < 0.0 else (lo, mid)
-    return centre + radius * np.array([np.cos(hi), np.sin(hi)])
-
-
-def _angles_through(model, node: int, point: np.ndarray) -> np.ndarray | None:
+def _angles_through(model, node: int, point: np.ndarray, then: float) -> np.ndarray | None:
     """Bar angles whose chain has ``node`` (even) exactly at ``point``: its first half of bars turned ``+θ`` from the
-    direction to the point, the second half ``−θ`` (equal bars), the rest straight on; None if out of reach."""
+    direction to the point, the second half ``−θ`` (equal bars), the rest straight on at the angle ``then``; None if
+    out of reach."""
     base = np.asarray(model.chain.base_point, dtype=float)
     length = float(model.chain.lengths[0])
     reach = np.hypot(*(point - base))
     if reach > node * length:
         return None
     psi, theta = np.arctan2(*(point - base)[::-1]), np.arccos(reach / (node * length))
-    phi = np.full(model.n, psi)
+    phi = np.full(model.n, then)
+    phi[:node] = psi
     phi[: node // 2] += theta
     phi[node // 2 : node] -= theta
     return phi
@@ -70,30 +47,36 @@ def _angles_through(model, node: int, point: np.ndarray) -> np.ndarray | None:
         ("s_bend_branch", 60.0, 240),
     ],
 )
-def test_rows_remodelled_at_a_corner_held_node_fit_it(name, length, bars):
-    """At shapes whose node sits exactly at a corner's needed distance while its wall row touches (wall slack 0 to
-    ``TOUCHING_BARS`` bar lengths), over every corner of the vessel: the rows modelled there agree with the constraint
-    they model at every touching row (``mismatch`` at most 1e-9 mm), so a refinement at that answer ends the rounds."""
+def test_rows_remodelled_where_a_bar_passes_a_corner_fit_it(name, length, bars):
+    """At shapes whose bar passes a corner on the lumen's side (at the wire's radius plus 0 to ``TOUCHING_BARS`` bar
+    lengths, its foot a tenth, half and nine tenths along it), for every corner of the vessel: the bar gets the
+    corner's bar row, its slack is that excess, and every touching row agrees with what it models (``mismatch`` at most
+    1e-9 mm), so a refinement at that answer ends the rounds."""
     scene = guidewire.load_scene(str(VESSELS / f"{name}.toml")).with_wire(length=length, bars=bars)
     model = build_model(scene)
-    bar = float(model.chain.lengths[0])
+    vessel, bar, r = scene.vessel, float(model.chain.lengths[0]), 0.5 * scene.wire.diameter
+    base = np.asarray(model.chain.base_point, dtype=float)
     checked = 0
-    for corner in range(scene.vessel.corners.shape[0]):
-        for fraction in (0.05, 0.5, 0.95):
-            base = np.asarray(model.chain.base_point, dtype=float)
-            reach = np.hypot(*(scene.vessel.corners[corner] - base))
-            node = min(model.n - model.n % 2, 2 * int(np.ceil(0.5 * reach / bar)) + 4)
-            point = _corner_point(model, corner, node, fraction * TOUCHING_BARS * bar)
-            phi = None if point is None else _angles_through(model, node, point)
-            if phi is None:
-                continue
-            points = model.chain.nodes(phi)
-            block = Lumen._modelled(model, np.arange(1, model.n + 1), points)
-            near = scene.vessel.clearance(points[node : node + 1])
-            wall = float(near.distance[0] - _needed(model, near.curvature, np.array([node]))[0])
-            held = float(block.slack(model, points)[node - 1])
-            assert abs(held) < 1e-9 < wall <= TOUCHING_BARS * bar  # the corner holds the node, its wall row touches
-            found = block.mismatch(model, phi)
-            assert found is None or found[0] <= 1e-9, (corner, fraction, found)
-            checked += 1
-    assert checked >= 2 * scene.vessel.corners.shape[0]
+    for corner, faces in zip(vessel.corners, vessel.corner_faces, strict=True):
+        away = -(faces[0] + faces[1]) / np.linalg.norm(faces[0] + faces[1])  # from the wedge into the lumen
+        along = np.array([-away[1], away[0]])
+        along = along if along @ (corner - base) > 0.0 else -along
+        node = min(model.n - 2 - model.n % 2, 2 * int(np.ceil(0.5 * np.hypot(*(corner - base)) / bar)) + 4)
+        for excess in (0.0, 0.5 * TOUCHING_BARS * bar):
+            for tau in (0.1, 0.5, 0.9):
+                foot = corner + (r + excess) * away
+                phi = _angles_through(model, node, foot - tau * bar * along, float(np.arctan2(along[1], along[0])))
+                if phi is None:
+                    continue
+                points = model.chain.nodes(phi)
+                block = Lumen._modelled(model, np.arange(1, model.n + 1), points)
+                rows = block.rows(model)
+                mine = np.flatnonzero((block.nodes == node) & (block.turns != 0.0))
+                assert mine.size == 1, (corner, excess, tau)
+                np.testing.assert_allclose(block.fractions[mine], tau, atol=1e-9)
+                np.testing.assert_allclose(rows.values(points)[mine] - rows.lb[mine], excess, atol=1e-9)
+                assert block.slack(model, points)[node - 1] <= excess + 1e-9
+                found = block.mismatch(model, phi)
+                assert found is None or found[0] <= 1e-9, (corner, excess, tau, found)
+                checked += 1
+    assert checked >= 6 * vessel.corners.shape[0] - 6

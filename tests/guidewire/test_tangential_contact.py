@@ -1,9 +1,11 @@
-"""Contacts along the wire that hold it lengthwise, and what they do to the push reading.
+"""No contact holds a frictionless wire lengthwise, not even a vessel's corner, so the entrance push is dE/dL.
 
 A frictionless wire on smooth walls is touched along its normal, so pushing it ΔL further costs ΔE: the entrance push
-is dE/dL (``test_vessel_solve.test_entrance_push_is_the_energy_rate``). The node rows of a vessel's corner (a branch's
-opening) meet the wire at an angle and hold it lengthwise; along an insertion, the energy's rate is then the push
-less that force (:meth:`Solution.tangential_contact_force`), and the step is flagged.
+is dE/dL (``test_vessel_solve.test_entrance_push_is_the_energy_rate``). At a branch's opening the wall turns sharply
+into the lumen at a corner: a row on a node's distance from the corner meets the wire at an angle and held it
+lengthwise, as friction would (0.1-0.6 N past ``s_bend_branch``'s corner, the push off by as much, even negative while
+the energy rose). The corner's row is on the distance of the bar that passes it (:mod:`guidewire.blocks.lumen`),
+whose force is normal to the bar.
 """
 
 from __future__ import annotations
@@ -38,10 +40,10 @@ def _smooth_rates(lengths: np.ndarray, steps: list, tol: float = 0.01) -> tuple[
     return 0.5 * (slopes[inner - 1] + slopes[inner]), inner
 
 
-@pytest.fixture(scope="module")
-def corner():
-    """``s_bend_branch`` at 4 bars/mm, its wire pushed past the branch's corner (38-46 mm)."""
-    return _insertion("s_bend_branch", 34.0, 46.0, 4.0)
+@pytest.fixture(scope="module", params=[2.0, 4.0])
+def corner(request):
+    """``s_bend_branch`` at 2 and 4 bars/mm, its wire pushed past the branch's corner (38-46 mm)."""
+    return _insertion("s_bend_branch", 34.0, 46.0, request.param)
 
 
 def test_smooth_walls_hold_the_wire_along_its_normal_only():
@@ -55,27 +57,24 @@ def test_smooth_walls_hold_the_wire_along_its_normal_only():
     np.testing.assert_allclose(push[where], rates, atol=0.01)
 
 
-def test_a_corner_holds_the_wire_and_the_push_carries_that_force(corner):
-    lengths, steps = corner
-    along = np.array([s.tangential_contact_force() for s in steps])
-    push = np.array([s.entrance_force() for s in steps])
-    rates, where = _smooth_rates(lengths, steps, tol=0.05)  # (the energy curves more here: 0.1-0.2 N per mm)
-    held = where[np.abs(along[where]) > TANGENTIAL_LIMIT_N]
-    assert held.size >= 6  # past the corner, between the steps where a contact is made or lost
-    rate_at = dict(zip(where.tolist(), rates.tolist(), strict=True))
-    expected = np.array([rate_at[i] for i in held])
-    # the energy's rate along the insertion is the push less the lengthwise force, not the push
-    np.testing.assert_allclose(push[held] - along[held], expected, atol=0.03)
-    assert np.max(np.abs(push[held] - expected)) > 5 * 0.03
-    for i in held:
-        assert any("along its length" in f for f in step_flags(steps[i], "warm"))
-    before = [i for i, length in enumerate(lengths) if length <= 36.0]
-    assert np.max(np.abs(along[before])) <= 0.2 * TANGENTIAL_LIMIT_N  # on the S-bend's smooth wall, before it
-
-
-@pytest.mark.xfail(strict=True, reason="a vessel's corner is modelled by node rows, which hold the wire lengthwise; "
-                                       "a bar-to-corner row (force normal to the bar) would let it slide")
 def test_a_corner_lets_the_wire_slide(corner):
     lengths, steps = corner
     along = np.array([s.tangential_contact_force() for s in steps])
-    assert np.max(np.abs(along)) <= TANGENTIAL_LIMIT_N
+    assert np.max(np.abs(along)) <= 0.1 * TANGENTIAL_LIMIT_N
+    assert not any("along its length" in f for s in steps for f in step_flags(s, "warm"))
+    past = [c for s in steps if s.s[-1] >= 42.0 for c in s.contacts() if "fraction" in c]
+    assert past  # (the wire passes the corner on a bar's row, not on a node's)
+
+
+def test_the_push_does_the_energys_work_past_a_corner(corner):
+    """Over each step from 42 to 45 mm — the wire sliding over the corner, no contact made or lost — the energy rises
+    by the push's work, ``ΔE = ΔL (p_i + p_{i+1})/2`` to the trapezoid rule's error ``ΔL³ |p''|/12`` (``p''`` ≈ 0.03
+    N/mm² here: 3e-4 N·mm; allowed 2e-3). The corner's node rows held the wire there with 0.3-0.6 N, and the push
+    read −0.06-0.05 N while the energy rose by 0.15-0.2 N·mm a step."""
+    lengths, steps = corner
+    energy = np.array([s.energy for s in steps])
+    push = np.array([s.entrance_force() for s in steps])
+    span = np.flatnonzero((lengths[:-1] >= 42.0 - 1e-9) & (lengths[1:] <= 45.0 + 1e-9))
+    assert span.size == 6
+    work = 0.5 * np.diff(lengths)[span] * (push[span] + push[span + 1])
+    np.testing.assert_allclose(np.diff(energy)[span], work, rtol=0, atol=2e-3)

@@ -68,9 +68,9 @@ def test_lowest_tries_the_way_through_a_branch(length):
     assert lowest.energy < first.energy * (1.0 - 1e-3)
     assert "branch start 1" in lowest.message
     radius = 0.5 * scene.wire.diameter
-    assert scene.vessel.clearance(lowest.nodes).distance.min() >= radius - 1e-6 * length
-    plain = _scene("s_bend", length).vessel  # the same S without the branch: the tip is outside it
-    assert plain.clearance(lowest.nodes[-1:]).distance[0] < 0.0
+    assert scene.vessel.lumen_clearance(lowest.nodes).min() >= radius - 1e-6 * length
+    depths = scene.vessel.tube_depths(lowest.nodes[50:51])[0]  # the wire's point at s = 50 mm: in the branch
+    assert depths[1] > depths[0]
 
 
 def test_route_starts_follow_each_reachable_branch():

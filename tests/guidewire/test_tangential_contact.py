@@ -62,8 +62,18 @@ def test_a_corner_lets_the_wire_slide(corner):
     along = np.array([s.tangential_contact_force() for s in steps])
     assert np.max(np.abs(along)) <= 0.1 * TANGENTIAL_LIMIT_N
     assert not any("along its length" in f for s in steps for f in step_flags(s, "warm"))
-    past = [c for s in steps if s.s[-1] >= 42.0 for c in s.contacts() if "fraction" in c]
+    past = [(s, c) for s in steps if s.s[-1] >= 42.0 for c in s.contacts() if "fraction" in c]
     assert past  # (the wire passes the corner on a bar's row, not on a node's)
+    corners = steps[0].scene.vessel.corners
+    for s, c in past:  # touching at the wire's radius from the corner, pressed straight away from it
+        point, normal = np.asarray(c["point"]), np.asarray(c["normal"])
+        k, tau = c["node"], c["fraction"]
+        np.testing.assert_allclose(point, (1.0 - tau) * s.nodes[k] + tau * s.nodes[k + 1], atol=1e-12)
+        offset = corners - point
+        gap = np.hypot(offset[:, 0], offset[:, 1])
+        nearest = int(np.argmin(gap))
+        assert abs(gap[nearest] - 0.5 * s.scene.wire.diameter) <= 1e-6 * s.scene.wire.length
+        np.testing.assert_allclose(normal, offset[nearest] / gap[nearest], atol=1e-5)
 
 
 def test_the_push_does_the_energys_work_past_a_corner(corner):

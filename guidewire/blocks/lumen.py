@@ -88,8 +88,9 @@ MIN_DENOMINATOR = 0.1
 """Floor of ``1 + κ D⁰`` in the distance's curvature ``κ/(1 + κ D⁰)`` (a node far outside a bulging wall)."""
 
 CORNER_BARS = 3.0
-"""A node gets a row on a wall corner when it is within the lumen's width there plus this many bar lengths of needing
-it (a node moves across the lumen, no farther, in one round)."""
+"""A node gets a row on its distance from a corner when it is within the lumen's width there plus this many bar
+lengths of needing it (a node moves across the lumen, no farther, in one round) and no bar's row on that corner
+covers it (module docstring)."""
 
 BAR_ROW_REACH = 1.0
 """A bar gets a row on its distance from a corner when it is within this many bar lengths of touching it (farther,

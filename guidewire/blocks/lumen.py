@@ -153,9 +153,18 @@ def _corner_feet(points: FloatArray, corners: FloatArray) -> tuple[FloatArray, F
 
 def _corner_slack(model: Model, points: FloatArray) -> FloatArray:
     """The least clearance from the vessel's corners of each node's two bars, less the wire's radius there (mm, every
-    node 1..n): what the bar rows of the corners keep ≥ 0."""
-    _, _, distance = _corner_feet(points, model.scene.vessel.corners)
-    bars = np.min(distance, axis=1) - _bar_radii(model)
+    node 1..n): what the bar rows of the corners keep ≥ 0. A bar within its length of a corner whose nearest point to
+    it lies outside the lumen has passed behind the corner, through its wedge of wall, its two nodes in the lumen on
+    either side: its clearance is that point's (negative)."""
+    vessel = model.scene.vessel
+    tau, _, distance = _corner_feet(points, vessel.corners)
+    radius = _bar_radii(model)
+    clearance = distance.copy()
+    j, c = np.nonzero(distance < (model.chain.lengths + radius)[:, None])
+    if j.size:
+        foot = points[j] + np.clip(tau[j, c], 0.0, 1.0)[:, None] * (points[j + 1] - points[j])
+        clearance[j, c] = np.where(vessel.lumen_clearance(foot) < 0.0, vessel.lumen_clearance(foot), distance[j, c])
+    bars = np.min(clearance, axis=1) - radius
     return np.minimum(bars, np.append(bars[1:], np.inf))
 
 

@@ -80,3 +80,36 @@ def test_rows_remodelled_where_a_bar_passes_a_corner_fit_it(name, length, bars):
                 assert found is None or found[0] <= 1e-9, (corner, excess, tau, found)
                 checked += 1
     assert checked >= 6 * vessel.corners.shape[0] - 6
+
+
+@pytest.mark.parametrize(("name", "length", "bars"), [("s_bend_branch", 60.0, 40), ("s_bend_branch", 60.0, 60),
+                                                      ("aortic_arch", 210.0, 105), ("aortic_arch", 210.0, 210)])
+def test_a_bar_behind_a_corner_is_a_violation_though_its_nodes_are_inside(name, length, bars):
+    """A bar passing behind a corner's tip, through its wedge of wall (its foot from the corner r + 0.01 mm into the
+    wedge, along the two walls' bisector), is outside the lumen: :meth:`Lumen.violation` flags its nodes by at least
+    the depth of the bar's nearest point to the corner, also where both nodes clear the walls by the wire's radius
+    (long bars: a node check alone passes that shape)."""
+    scene = guidewire.load_scene(str(VESSELS / f"{name}.toml")).with_wire(length=length, bars=bars)
+    model = build_model(scene)
+    vessel, bar, r = scene.vessel, float(model.chain.lengths[0]), 0.5 * scene.wire.diameter
+    base = np.asarray(model.chain.base_point, dtype=float)
+    checked = hidden = 0
+    for corner, faces in zip(vessel.corners, vessel.corner_faces, strict=True):
+        into = (faces[0] + faces[1]) / np.linalg.norm(faces[0] + faces[1])
+        along = np.array([-into[1], into[0]])
+        along = along if along @ (corner - base) > 0.0 else -along
+        node = min(model.n - 2 - model.n % 2, 2 * int(np.ceil(0.5 * np.hypot(*(corner - base)) / bar)) + 4)
+        foot = corner + (r + 0.01) * into
+        phi = _angles_through(model, node, foot - 0.5 * bar * along, float(np.arctan2(along[1], along[0])))
+        if phi is None:
+            continue
+        points = model.chain.nodes(phi)
+        depth = -float(vessel.lumen_clearance(foot[None])[0])
+        assert depth > 0.0  # (the construction: the bar's middle is in the wall)
+        violation = Lumen.build(model)[0].violation(model, phi, points)
+        assert min(violation[node - 1], violation[node]) >= r + depth - 1e-9
+        hidden += bool(np.all(vessel.lumen_clearance(points[node : node + 2]) >= r))
+        checked += 1
+    assert checked == vessel.corners.shape[0]
+    if bar >= 1.5:
+        assert hidden >= 1  # (1.5 mm bars span the wedge's tip of s_bend_branch with both nodes clear)

@@ -163,7 +163,8 @@ def _corner_slack(model: Model, points: FloatArray) -> FloatArray:
     j, c = np.nonzero(distance < (model.chain.lengths + radius)[:, None])
     if j.size:
         foot = points[j] + np.clip(tau[j, c], 0.0, 1.0)[:, None] * (points[j + 1] - points[j])
-        clearance[j, c] = np.where(vessel.lumen_clearance(foot) < 0.0, vessel.lumen_clearance(foot), distance[j, c])
+        inside = vessel.lumen_clearance(foot)
+        clearance[j, c] = np.where(inside < 0.0, inside, distance[j, c])
     bars = np.min(clearance, axis=1) - radius
     return np.minimum(bars, np.append(bars[1:], np.inf))
 

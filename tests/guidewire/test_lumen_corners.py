@@ -113,3 +113,25 @@ def test_a_bar_behind_a_corner_is_a_violation_though_its_nodes_are_inside(name, 
     assert checked == vessel.corners.shape[0]
     if bar >= 1.5:
         assert hidden >= 1  # (1.5 mm bars span the wedge's tip of s_bend_branch with both nodes clear)
+
+
+@pytest.mark.parametrize("name", ["s_bend_branch", "aortic_arch"])
+def test_points_facing_a_corner_measure_their_clearance_from_it(name):
+    """Straight out of a corner's wedge (along its two walls' bisector, away from the wall) the corner is the nearest
+    point of the lumen's boundary: :meth:`Vessel.nearest_corner` names it and :meth:`Vessel.lumen_clearance` is the
+    distance from it, where the deepest tube's :meth:`Vessel.clearance` (its wall running on through the opening)
+    reads less; a point into the wedge is outside the lumen."""
+    vessel = guidewire.load_scene(str(VESSELS / f"{name}.toml")).vessel
+    narrowest = min(float(np.min(vessel.radius)), *(float(np.min(b.radius)) for b in vessel.branches))
+    shorter = 0
+    for c, (corner, faces) in enumerate(zip(vessel.corners, vessel.corner_faces, strict=True)):
+        into = (faces[0] + faces[1]) / np.linalg.norm(faces[0] + faces[1])
+        t = np.array([0.05, 0.1, 0.2]) * narrowest
+        points = corner - t[:, None] * into
+        index, distance = vessel.nearest_corner(points)
+        assert np.all(index == c)
+        np.testing.assert_allclose(distance, t, rtol=1e-12)
+        np.testing.assert_allclose(vessel.lumen_clearance(points), t, rtol=1e-12)
+        shorter += int(np.any(vessel.clearance(points).distance < t - 1e-9))
+        assert np.all(vessel.lumen_clearance(corner + t[:, None] * into) < 0.0)
+    assert shorter >= 1

@@ -27,9 +27,13 @@ Found at the scene's 2 bars per mm (452-536 bars at the end), each with the firs
 hook: the left common carotid hooked at 232 mm (tip 32 mm deep at 242 mm), the brachiocephalic trunk at 258 mm
 (tip 29 mm deep at 268 mm, 15 mm beyond the aorta's wall); the left subclavian by pushing at 0 to 226 mm (25 mm
 deep). For the trunk an earlier hook fails: turned back at 236 mm the J snaps into the left common carotid (checked by
-hand). The whole search takes about 1.5 minutes on one core. (Before ``solve3d`` dropped quadprog from its QP
-fallbacks, a step whose PIQP subproblem failed once handed quadprog a dense 2900-variable QP: 55-110 s for one
-2 mm push; the brachiocephalic replay took 109 s with one step of 86 s, now 34 s.)
+hand). These schedules were found before the lumen had its creases (:mod:`guidewire.vessel3d.crease`: the rims of the
+branches' openings, over which the wire now slides where the tubes' own rows held it lengthwise); replayed with them,
+all three still reach their branches (the tips 28, 34 and 40 mm in). Run again, the search finds the left
+subclavian (222 mm) and the left common carotid (hooked at 240 mm), but no trunk schedule: each pass (180, 150, 210
+degrees) is given up where the J, now free to slide over the rims, dips into the left common carotid (15-17 mm) or
+the subclavian (10 mm) — the committed trunk schedule dips 15.5 mm into the left common carotid at 238 mm too, comes
+out as it is pushed on, and hooks into the trunk at 258 mm.
 
 Usage: ``python examples/steer_arch.py [--branches NAME ...]`` (BLAS pinned to one thread). Replay from the
 repository root::

@@ -105,10 +105,14 @@ class ConvexifiedExact:
     the rows that weight was applied on.
     """
 
-    def __init__(self, problem: Problem, lam0: Array | None, inequalities: bool = True,
+    def __init__(self, problem: Problem, lam0: Array | None, inequalities: bool | tuple[int, ...] = True,
                  rungs: int | None = None) -> None:
         self.problem = problem
-        self.inequalities = inequalities
+        # (True: every held inequality joins the term; a tuple: those among these rows, and every held one where they
+        # leave W indefinite; False: none)
+        self.inequalities = bool(inequalities) if isinstance(inequalities, bool) else True
+        self.allowed = None if isinstance(inequalities, bool) else np.union1d(
+            problem.nonlinear.eq, np.asarray(inequalities, dtype=np.intp))
         self.rungs = rungs
         self.lam0 = np.zeros(problem.nonlinear.lb.size) if lam0 is None else lam0
         self.shift = 0.0
@@ -133,13 +137,27 @@ class ConvexifiedExact:
             self.rows = self.held
         else:  # (the start's multipliers, or an elastic QP's)
             self.rows = al_rows(self.problem, lam)
+        held = self.rows
+        if self.allowed is not None:
+            self.rows = np.intersect1d(self.rows, self.allowed, assume_unique=True)
         W = ev.lagrangian_hessian(st.pt.x, lam)
         if ev.hessian_nonfinite is not None:
             return None
         C = equality_rows(self.problem, st.der.J, self.rows)
         B, self.shift, self.weight = convexify(W, self.shift, C, self.weight, self.definite,
                                                self.problem.equality_only, self.rungs)
-        if (not self.inequalities or self.rungs is not None) and self.shift > 0.0 and C is not None:
+        if self.allowed is not None and self.shift > 0.0 and held.size > self.rows.size:
+            # (the given rows leave W indefinite: every held row joins the term before any identity shift — a shift
+            # as large as the softest mode the held rows stabilise, a wire pushed against the walls and over a
+            # crease, made each step move a few percent of the way)
+            C_all = equality_rows(self.problem, st.der.J, held)
+            found = convexify(W, 0.0, C_all, self.weight, False, self.problem.equality_only, self.rungs)
+            if found[1] == 0.0:
+                B, self.shift, self.weight = found
+                self.rows = held
+                return self._keep(B)
+        if (not self.inequalities or self.allowed is not None or self.rungs is not None) and self.shift > 0.0 \
+                and C is not None:
             # W is not positive definite on the held rows' null space (or only with a weight past the ladder's
             # rungs): the shift goes on top of the augmented-Lagrangian term, so that it need only cover that null
             # space (W alone can be far more indefinite across the rows: a compressed wire's closure forces)
@@ -172,10 +190,10 @@ class ConvexifiedExact:
 
 
 def hessian_strategy(problem: Problem, B0: Array | None, lam0: Array | None,
-                     inequalities: bool = True, rungs: int | None = None) -> HessianStrategy:
+                     inequalities: bool | tuple[int, ...] = True, rungs: int | None = None) -> HessianStrategy:
     """:class:`ConvexifiedExact` when the problem carries exact Hessians (its augmented-Lagrangian term on the active
-    inequalities too when ``inequalities``, its weight's ladder ``rungs`` long), else :class:`DampedBFGS` from
-    ``B0``."""
+    inequalities too when ``inequalities`` is True, on those among its rows when it is a tuple of nonlinear row
+    indices, its weight's ladder ``rungs`` long), else :class:`DampedBFGS` from ``B0``."""
     if problem.hess is not None:
         return ConvexifiedExact(problem, lam0, inequalities, rungs)
     return DampedBFGS(problem, B0)

@@ -87,10 +87,13 @@ class Options:
         Largest change of any variable in one step of the first :data:`sqp.termination.RESTART_BOUNDED_ITERATIONS` (10)
         iterations (a box trust region on the QP); ``inf`` (the default): none. A QP whose step reaches it gives no
         KKT certificate (its bound multipliers include the box's).
-    convexify_inequalities : bool
+    convexify_inequalities : bool or tuple of int
         With exact Hessians, whether the augmented-Lagrangian term that makes the model Hessian positive definite
         (:func:`sqp.hessian.convexify`) also covers the nonlinear inequalities active at the last step (True, the
-        default) or only the equalities (False; where ``W`` is not positive definite on their null space an identity
+        default), only those among the given nonlinear rows (indices into the nonlinear rows, in the order of
+        ``constraints``: rows whose curvature makes ``W`` indefinite where they hold, as a wire over a convex edge;
+        where the term on them leaves ``W`` indefinite, every held inequality joins it before an identity shift is
+        tried), or only the equalities (False; where ``W`` is not positive definite on their null space an identity
         shift is added on top of the term, :func:`sqp.hessian.shifted_augmented`). On a row the QP keeps active the
         term leaves the step unchanged; on a row the QP releases it penalises leaving, so when the active set moves
         along many rows at every iteration (a wire sliding along a vessel wall: its contact nodes change from step
@@ -150,7 +153,7 @@ class Options:
     step_bound: float = float("inf")
     restart: bool = True
     restoration: bool = True
-    convexify_inequalities: bool = True
+    convexify_inequalities: bool | tuple[int, ...] = True
     active_set_guess: bool = False
     augmented_rungs: int | None = None
     extend_shifted_steps: bool = True

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from typing import Any
 
@@ -71,7 +71,7 @@ def minimize(
     max_iter: int | None = None,
     feasibility_tol: float | None = None,
     verbose: bool = False,
-    convexify_inequalities: bool = True,
+    convexify_inequalities: bool | Sequence[int] = True,
     qp_fallbacks: tuple[str, ...] | None = None,
     active_set_guess: bool = False,
     step_bound: float = float("inf"),
@@ -151,10 +151,10 @@ def minimize(
         (:attr:`sqp.Options.feasibility_tol`).
     verbose : bool
         Print the backend used and an iteration table.
-    convexify_inequalities : bool
+    convexify_inequalities : bool or sequence of int
         With ``hess``: whether the augmented-Lagrangian convexification of an indefinite Lagrangian Hessian also
         covers the active inequalities (:attr:`sqp.Options.convexify_inequalities`; False when the active set moves
-        along many rows at every iteration).
+        along many rows at every iteration), or those among the given nonlinear rows only.
     qp_fallbacks : tuple of str or None
         Backends asked when the chosen one fails a subproblem (:attr:`sqp.Options.qp_fallbacks`); None: its
         default.
@@ -210,7 +210,8 @@ def minimize(
     options_ = Options(tol=call.tol, feasibility_tol=feasibility_tol, max_iter=call.max_iter, qp_solver=qp_solver,
                        qp_options=dict(qp_options or {}),
                        callback=adapt_callback(callback), verbose=call.table,
-                       convexify_inequalities=bool(convexify_inequalities), active_set_guess=bool(active_set_guess),
+                       convexify_inequalities=_row_selection(convexify_inequalities),
+                       active_set_guess=bool(active_set_guess),
                        step_bound=float(step_bound), augmented_rungs=augmented_rungs,
                        extend_shifted_steps=bool(extend_shifted_steps),
                        **({} if qp_fallbacks is None else {"qp_fallbacks": tuple(qp_fallbacks)}))
@@ -339,6 +340,22 @@ def _iterate(problem: Problem, options: Options, B0: Array | None, lam0: Array |
     flat = stop.status in RESTART_STATUSES and flat_violation(problem, st, options.tol)
     return build_result(problem, ev, st.pt, st.der, st.qp, stop.status, history, t_start, B=st.B, nit=len(history),
                         detail=stop.detail, kkt=monitor.residuals(st)), flat
+
+
+def _row_selection(value: bool | Sequence[int]) -> bool | tuple[int, ...]:
+    """``convexify_inequalities`` as :class:`~sqp.options.Options` keeps it: a bool, or the row indices (a TypeError
+    for anything else)."""
+    if isinstance(value, bool | np.bool_):
+        return bool(value)
+    try:
+        rows = tuple(int(i) for i in value)
+    except (TypeError, ValueError):
+        raise TypeError(f"convexify_inequalities is {value!r}; expected True, False or a sequence of nonlinear row "
+                        "indices.") from None
+    if any(i < 0 for i in rows):
+        raise ValueError("convexify_inequalities: row indices must be non-negative (rows of the nonlinear "
+                         "constraints, in their order).")
+    return rows
 
 
 def bounded_steps(options: Options, nit: int) -> Options:

@@ -99,10 +99,10 @@ STEP_BUDGET = 300
 
 def tracked_multipliers(previous: Solution3D, scene: Scene3D, n: int) -> list[FloatArray] | None:
     """The multipliers of ``previous`` carried to ``scene`` with ``n`` bars, row block by row block, as the track
-    predictor carries the shape (bar ``k`` and node ``k`` keep their place: the first ``min(n_old, n)`` take the
-    old values, new ones start at zero): closure (3 per bar), pinned contacts (as they were), walls (one per wall
-    and node) and lumen (one per node), a touching tip's going to the new tip. None when ``previous`` has none (a
-    failed solve) or another layout."""
+    predictor carries the shape (bar ``k`` and node ``k`` keep their place: the first ``min(n_old, n)`` take the old
+    values, new ones start at zero): closure (3 per bar), pinned contacts (as they were), walls (one per wall and node),
+    lumen (one per node; a touching tip's going to the new tip) and creases (as they were). None when ``previous`` has
+    none (a failed solve) or another layout."""
     old = previous.extras.get("multipliers")
     if old is None:
         return None
@@ -139,6 +139,9 @@ def tracked_multipliers(previous: Solution3D, scene: Scene3D, n: int) -> list[Fl
     if scene.vessel is not None:
         blocks.append(node_rows(old[index]))
         index += 1
+        if getattr(scene.vessel, "creases", ()):
+            blocks.append(np.asarray(old[index], dtype=float))  # (its places keep their slots)
+            index += 1
     return blocks if index == len(old) else None
 
 

@@ -21,8 +21,16 @@ Rows:
 contact points (linear equalities): ``s u_k = p``. Multiplier: the contact force on the wire (N).
 walls (linear inequalities): ``s n̂ · u_k ≤ b`` for every node. Multiplier ``≤ 0``: the wall pushes with ``λ n̂``.
 lumen (nonlinear inequalities): ``g(p_k) ≥ 0``: node ``k`` inside the lumen shrunk by the wire's radius there
-    (:mod:`guidewire.vessel3d.tube`; ``g`` is the clearance in mm to first order at the wall). Multiplier
-    ``λ_k ≥ 0`` (N): the wall's force ``λ_k ∇g`` (normal to the wall, pointing in).
+    (:mod:`guidewire.vessel3d.tube`; ``g`` is the clearance in mm to first order at the wall; beside a crease, the
+    distance from it less the radius, :mod:`guidewire.vessel3d.crease`). Multiplier ``λ_k ≥ 0`` (N): the wall's
+    force ``λ_k ∇g`` (normal to the wall, pointing in).
+creases (nonlinear inequalities, a vessel whose lumen has creases): :data:`CREASE_SLOTS` rows per crease, one per
+    place where it comes nearest the wire (in their order along it; an unused one a constant), ``|P − X| − r ≥ 0``
+    with ``P = (1 − τ) p_{k−1} + τ p_k`` the wire's nearest point on a bar, or a node; the row follows the place as
+    it slides from bar to bar, so a wire slides over the crease around a branch's opening as over a smooth wall.
+    The node rows of nodes in a crease's cone are then inactive (these rows bound their distance from it).
+    Multiplier ``λ ≥ 0`` (N): the crease's force at ``P``, normal to the bar, shared by its nodes as ``1 − τ``
+    and ``τ``.
 
 Objective: :class:`guidewire.rod.strain_energy.StrainEnergy` in ``ω`` minus the tip load's work ``F · p_n``.
 """
@@ -42,6 +50,7 @@ from ..rod import kinematics
 from ..rod import quaternion as quat
 from ..rod.material import twist_stiffness
 from ..rod.strain_energy import EnergyParts, StrainEnergy
+from ..vessel3d.vessel import CREASE_SLOTS
 from .pattern import Pattern
 from .scene import Scene3D
 
@@ -215,7 +224,27 @@ class Program:
             out.append(walls)
         if self.scene.vessel is not None:
             out.append(self._lumen_rows())
+            if self.has_creases:
+                out.append(self._crease_rows())
         return out
+
+    @property
+    def has_creases(self) -> bool:
+        """Whether the program has the creases' bar rows (a vessel whose lumen has creases)."""
+        return bool(getattr(self.scene.vessel, "creases", ()))
+
+    def crease_rows(self) -> tuple[int, ...]:
+        """The creases' rows among the program's nonlinear rows (closure 3n, lumen n, then the creases'; none
+        without creases)."""
+        if not self.has_creases:
+            return ()
+        return tuple(range(4 * self.n, 4 * self.n + CREASE_SLOTS * len(self.scene.vessel.creases)))
+
+    def crease_contacts(self, z: FloatArray) -> Any:
+        """Where each crease comes nearest the wire at ``z``
+        (:meth:`guidewire.vessel3d.vessel.Vessel3D.crease_contacts`)."""
+        return self.scene.vessel.crease_contacts(self.split(z)[1], bar_radii(self.scene, self.lengths),
+                                                 node_radii(self.scene, self.lengths))
 
     def _closure(self) -> dict[str, Any]:
         n, s, lengths, W = self.n, self.scale, self.lengths, self.width
@@ -286,19 +315,73 @@ class Program:
         jacobian = Pattern.of(rows, cols, (n, m), "csr")
         hessian = Pattern.of(*_block_diagonal_pattern(n, 3, W), (m, m))
 
+        mode = "held" if self.has_creases else "rows"
+
         def fun(z: FloatArray) -> FloatArray:
-            return vessel.lumen_rows(self.split(z)[1][1:], radii)[0]
+            return vessel.lumen_rows(self.split(z)[1][1:], radii, mode)[0]
 
         def jac(z: FloatArray) -> sp.csr_matrix:
-            grad = vessel.lumen_rows(self.split(z)[1][1:], radii)[1]
+            grad = vessel.lumen_rows(self.split(z)[1][1:], radii, mode)[1]
             return jacobian.matrix(s * grad.ravel())
 
         def hess(z: FloatArray, v: FloatArray) -> sp.csc_matrix:
-            lumen_hessian = vessel.lumen_rows(self.split(z)[1][1:], radii)[2]
+            lumen_hessian = vessel.lumen_rows(self.split(z)[1][1:], radii, mode)[2]
             blocks = s * s * np.asarray(v, dtype=float)[:, None, None] * lumen_hessian
             return hessian.matrix(blocks.ravel())
 
         return {"type": "ineq", "fun": fun, "jac": jac, "hess": hess}
+
+    def _crease_rows(self) -> dict[str, Any]:
+        s, W, m = self.scale, self.width, self.size
+        slots = CREASE_SLOTS
+        rows_count = slots * len(self.scene.vessel.creases)
+
+        def places(z: FloatArray) -> tuple[FloatArray, NDArray[np.intp], FloatArray, FloatArray, FloatArray]:
+            """Value, bar, gradient (6,) and Hessian (6, 6) of every row (unused slots: CREASE_FAR, no bar)."""
+            value = np.full(rows_count, CREASE_FAR)
+            bar = np.full(rows_count, -1, dtype=np.intp)
+            grad = np.zeros((rows_count, 6))
+            hess = np.zeros((rows_count, 6, 6))
+            for c, found in enumerate(self.crease_contacts(z)):
+                k = slice(c * slots, c * slots + found.bar.size)
+                value[k], bar[k], grad[k], hess[k] = found.value, found.bar, found.gradient, found.hessian
+            return value, bar, grad, hess, np.flatnonzero(bar >= 0)
+
+        def columns(bar: NDArray[np.intp]) -> NDArray[np.intp]:
+            """The 6 columns of each bar's two nodes (−1 for the clamp's, which are not variables)."""
+            first = np.where(bar[:, None] >= 1, W * (bar[:, None] - 1) + 3 + np.arange(3), -1)
+            return np.concatenate((first, W * bar[:, None] + 3 + np.arange(3)), axis=1)
+
+        def fun(z: FloatArray) -> FloatArray:
+            return places(z)[0]
+
+        def jac(z: FloatArray) -> sp.csr_matrix:
+            _, bar, grad, _, used = places(z)
+            cols = columns(bar[used])
+            rows = np.repeat(used, 6).reshape(-1, 6)
+            keep = cols >= 0
+            return sp.csr_matrix((s * grad[used][keep], (rows[keep], cols[keep])), shape=(rows_count, m))
+
+        def hess(z: FloatArray, v: FloatArray) -> sp.csc_matrix:
+            _, bar, _, blocks, used = places(z)
+            cols = columns(bar[used])
+            weighted = (s * s * np.asarray(v, dtype=float)[used])[:, None, None] * blocks[used]
+            r_idx = np.broadcast_to(cols[:, :, None], weighted.shape)
+            c_idx = np.broadcast_to(cols[:, None, :], weighted.shape)
+            keep = (r_idx >= 0) & (c_idx >= 0)
+            return sp.csc_matrix((weighted[keep], (r_idx[keep], c_idx[keep])), shape=(m, m))  # (repeats summed)
+
+        return {"type": "ineq", "fun": fun, "jac": jac, "hess": hess}
+
+
+CREASE_FAR = 1.0
+"""The value (mm) of a crease's row with no place to hold (any positive number: the row is inactive)."""
+
+
+def bar_radii(scene: Scene3D, lengths: FloatArray) -> FloatArray:
+    """Wire radius (mm) of every bar (its middle's)."""
+    s_mid = np.concatenate(([0.0], np.cumsum(lengths)))[:-1] + 0.5 * lengths
+    return 0.5 * scene.wire.properties_at(s_mid).diameter
 
 
 def _energy_pattern(n: int, width: int) -> tuple[IntArray, IntArray]:

@@ -24,8 +24,10 @@ FloatArray = NDArray[np.float64]
 
 @dataclass(frozen=True)
 class ContactForce3D:
-    """A force on one node: ``kind`` ("lumen", "wall", "contact", "tip"), the node, its point (mm), the unit normal
-    (for the lumen and walls: the direction the wall pushes) and the force vector (N)."""
+    """A force on the wire: ``kind`` ("lumen", "wall", "contact", "tip" on a node; "crease", where the crease around
+    a branch's opening holds a bar: ``node`` is the bar's far end and ``point`` its foot on the bar), the node, its
+    point (mm), the unit normal (for the lumen, walls and creases: the direction the wall pushes) and the force
+    vector (N)."""
 
     kind: str
     node: int
@@ -133,16 +135,17 @@ class Solution3D:
         return float(self.clamp_moment @ self.frames_base_tangent)
 
     def tangential_contact_force(self) -> float:
-        """The net force (N) the wall and lumen contacts at the wire's interior nodes exert along it, against the
-        push (positive: they resist a further insertion). Zero for a frictionless wire on a smooth wall, which
-        touches it along its normal; not zero where a node's row meets the wire at an angle — the ridge where a
-        branch leaves its parent, whose node rows (of the one tube each node is deepest in) hold the wire where the
-        real, smooth wire would slide over it (the type I arch's left subclavian: 0.79 N at 220 mm). The tip's
-        contact is left out (a tip pressed head-on into a wall is pushed back along the wire by right). 0 for a
-        failed solve."""
+        """The net force (N) the wall and lumen contacts at the wire's interior nodes exert along it, against the push
+        (positive: they resist a further insertion). Zero for a frictionless wire on a smooth wall, which touches it
+        along its normal, and over the crease around a branch's opening, which holds a bar at its foot, normal to it
+        (:mod:`guidewire.vessel3d.crease`). The tip's contact is left out (a tip pressed head-on into a wall is pushed
+        back along the wire by right). 0 for a failed solve."""
         total = 0.0
         for f in self.forces:
-            if f.kind not in ("lumen", "wall") or not 0 < f.node < self.n_bars:
+            if f.kind == "crease" and not np.array_equal(f.point, self.nodes[f.node]):  # (inside a bar: along it)
+                total -= float(f.force @ self.frames[f.node - 1, 2])
+                continue
+            if f.kind not in ("lumen", "wall", "crease") or not 0 < f.node < self.n_bars:
                 continue
             t = self.frames[f.node - 1, 2] + self.frames[f.node, 2]
             total -= float(f.force @ t) / float(np.linalg.norm(t))

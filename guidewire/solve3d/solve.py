@@ -23,6 +23,7 @@ from ..rod import quaternion as quat
 from ..rod.jet import Jet
 from ..rod.material import twist_stiffness
 from ..rod.strain import joint_strain
+from ..vessel3d.vessel import CREASE_SLOTS
 from .program import Program, bar_layout, node_radii
 from .result import ContactForce3D, Solution3D, clamp_moment, half_joint_moment
 from .scene import Scene3D
@@ -118,8 +119,13 @@ def solve3d(scene: Scene3D, *, initial_nodes: Any = None, initial_frames: Any = 
     # where Clarabel's answer, or none, gave the same converged step in 1.1 s)
     # (each QP first on the active set the last multipliers guess: the wire's contacts change little between
     # iterations and steps, and one banded KKT solve then replaces an interior-point QP)
+    # (but on the creases' rows, a convex edge whose row's curvature makes W indefinite along it where it holds a bar;
+    # and where the closure and crease rows leave W indefinite, on every held row before any identity shift: a shift
+    # the size of a soft mode the wall contacts stabilise made the steps crawl — the tortuous coronary vessel's
+    # insertion stopped at 46 mm, a cold solve there took 117 iterations at 45 mm and failed at 60, now 12 and 54)
     options: dict[str, Any] = {"tol": tol, "max_iter": max_iter, "verbose": verbose,
-                               "convexify_inequalities": False, "qp_fallbacks": SPARSE_FALLBACKS,
+                               "convexify_inequalities": program.crease_rows(),
+                               "qp_fallbacks": SPARSE_FALLBACKS,
                                "active_set_guess": True, "extend_shifted_steps": EXTEND_SHIFTED_STEPS}
     if qp_solver is not None:
         options["qp_solver"] = qp_solver
@@ -210,7 +216,7 @@ def answer(program: Program, res: Any, iterations: int, rounds: int, seconds: fl
     success = bool(res.success)
     if success:
         clamp_f, clamp_m, forces = external_forces(program, list(res.constraint_multipliers), nodes, nodes_var, q,
-                                                   extras)
+                                                   extras, z)
     return Solution3D(success=success, status=int(res.status), message=str(res.message), nodes=nodes,
                       frames=quat.to_frames(q), quaternions=q, bending_energy=bending,
                       twist_energy=twist_energy, twist=twist, base_rotation=scene.base.rotation, forces=forces,
@@ -219,7 +225,7 @@ def answer(program: Program, res: Any, iterations: int, rounds: int, seconds: fl
 
 
 def external_forces(program: Program, lam: list[Any], nodes: FloatArray, nodes_var: FloatArray, q: FloatArray,
-                    extras: dict[str, Any]) -> tuple[FloatArray, FloatArray, list[ContactForce3D]]:
+                    extras: dict[str, Any], z: FloatArray) -> tuple[FloatArray, FloatArray, list[ContactForce3D]]:
     """The clamp's force and moment and every other external force of a converged solve, from its multipliers
     ``lam`` (one array per row block, in the program's order); sets ``extras["multipliers"]`` and
     ``extras["contact_moment"]`` (the moments that contacts holding a tangent exert)."""
@@ -247,13 +253,25 @@ def external_forces(program: Program, lam: list[Any], nodes: FloatArray, nodes_v
         index += 1
     if scene.vessel is not None:
         values = np.asarray(lam[index], dtype=float)
-        g = scene.vessel.lumen_rows(nodes_var[1:], node_radii(scene, program.lengths))[0]
+        mode = "held" if program.has_creases else "rows"  # (the rows the program had)
+        g = scene.vessel.lumen_rows(nodes_var[1:], node_radii(scene, program.lengths), mode)[0]
         active = np.flatnonzero((values > 0.0) & (g <= TOUCHING * scene.wire.length))
-        grad = scene.vessel.lumen_rows(nodes_var[1:], node_radii(scene, program.lengths))[1][active]
+        grad = scene.vessel.lumen_rows(nodes_var[1:], node_radii(scene, program.lengths), mode)[1][active]
         for j, k in enumerate(active):
             norm = float(np.linalg.norm(grad[j]))
             forces.append(ContactForce3D("lumen", int(k) + 1, nodes[k + 1], grad[j] / norm,
                                          values[k] * grad[j]))
+        index += 1
+        if program.has_creases:
+            # (a crease's contact: at the wire's nearest point to it, on a bar or a node; node = the bar's far end)
+            values = np.asarray(lam[index], dtype=float).reshape(-1, CREASE_SLOTS)
+            for found, held in zip(program.crease_contacts(z), values, strict=True):
+                for j in range(found.bar.size):
+                    if held[j] > 0.0 and found.value[j] <= TOUCHING * scene.wire.length:
+                        k, tau = int(found.bar[j]), float(found.fraction[j])
+                        normal = found.gradient[j, :3] + found.gradient[j, 3:]  # ((1 − τ) ŵ + τ ŵ)
+                        point = nodes[k + 1].copy() if tau >= 1.0 else nodes[k] + tau * (nodes[k + 1] - nodes[k])
+                        forces.append(ContactForce3D("crease", k + 1, point, normal, held[j] * normal))
     if scene.tip_force is not None:
         f = np.asarray(scene.tip_force, dtype=float)
         norm = float(np.linalg.norm(f))

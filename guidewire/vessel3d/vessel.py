@@ -6,7 +6,9 @@ repeated consecutive points, non-finite values, a radius that is not positive, a
 tube that comes back within its radius of itself is refused with a ``ValueError`` naming the field and the points.
 
 The lumen of a tree is the union of its tubes: a point's row is the best tube's (the largest ``g``,
-:mod:`guidewire.vessel3d.tube`). :meth:`Vessel3D.clearance` reports the distance to the wall in mm (> 0 inside).
+:mod:`guidewire.vessel3d.tube`), or, beside the crease around a branch's opening where the wire's ball stands over the
+opening in neither tube alone, its distance from the crease (:mod:`guidewire.vessel3d.crease`).
+:meth:`Vessel3D.clearance` reports the distance to the wall in mm (> 0 inside).
 """
 
 from __future__ import annotations
@@ -20,10 +22,19 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
+from .crease import Crease, CreaseMinima, find_creases
 from .tube import Tube
 
 FloatArray = NDArray[np.float64]
 Polyline = tuple[tuple[float, float, float], ...]
+
+CREASE_SLOTS = 2
+"""Places per crease where it may hold a wire (:meth:`Vessel3D.crease_contacts`): a wire across a branch's opening
+rests on its rim at two."""
+
+CREASE_HELD = 1.0
+"""A node row's value (mm) where a crease's rows hold the node instead (:meth:`Vessel3D.lumen_rows` with
+``creases="held"``): any positive number, the row is inactive."""
 
 BEND_LIMIT = 1.0
 """A tube whose centreline curvature times radius reaches this anywhere overlaps itself there (refused)."""
@@ -90,6 +101,7 @@ class Vessel3D:
     name: str = ""
     _tubes: Any = field(default=None, init=False, repr=False, compare=False)
     _memo: Any = field(default=None, init=False, repr=False, compare=False)
+    _creases: Any = field(default=None, init=False, repr=False, compare=False)
 
     @classmethod
     def from_centreline(cls, centreline: Any, radius: Any, branches: Sequence[Any] = (), name: str = "") -> Vessel3D:
@@ -143,6 +155,14 @@ class Vessel3D:
         return self._tubes
 
     @property
+    def creases(self) -> tuple[Crease, ...]:
+        """The creases around the branches' openings (:func:`guidewire.vessel3d.crease.find_creases`), found on first
+        use (~0.1 s a branch)."""
+        if self._creases is None:
+            object.__setattr__(self, "_creases", find_creases(self._tubes))
+        return self._creases
+
+    @property
     def entrance(self) -> tuple[FloatArray, FloatArray]:
         """The entrance point and the unit tangent pointing in."""
         p, t = self._tubes[0].path(np.zeros(1))
@@ -164,11 +184,18 @@ class Vessel3D:
         return self._tubes[0].path(np.atleast_1d(np.asarray(s, dtype=float)))
 
     # -- the lumen -----------------------------------------------------------------------------------------------
-    def lumen_rows(self, points: FloatArray, radii: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """Rows ``g ≥ 0`` for points (m, 3) of wire radii (m,): values, gradients (m, 3), Hessians (m, 3, 3)."""
+    def lumen_rows(self, points: FloatArray, radii: FloatArray,
+                   creases: str = "rows") -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Rows ``g ≥ 0`` for points (m, 3) of wire radii (m,): values, gradients (m, 3), Hessians (m, 3, 3) — the
+        largest of the tubes' rows and, with ``creases="rows"``, the creases' (see the module docstring). With
+        ``creases="held"`` a point in a crease's cone gets :data:`CREASE_HELD` (no derivatives): the rows of a wire
+        whose contacts with the creases are rows of their own (:meth:`crease_contacts`), which bound every node's
+        distance from them."""
+        if creases not in ("rows", "held"):
+            raise ValueError(f"creases is {creases!r}; expected 'rows' or 'held'.")
         p = np.ascontiguousarray(points, dtype=float)
         r = np.broadcast_to(np.asarray(radii, dtype=float), (len(p),))
-        key = (p.tobytes(), r.tobytes())
+        key = (p.tobytes(), r.tobytes(), creases)
         memo = self._memo
         if memo.get("key") != key:
             g, grad, hess, _ = self._tubes[0].rows(p, r)
@@ -183,9 +210,37 @@ class Vessel3D:
                 better = g > best[0][near]
                 take = near[better]
                 best[0][take], best[1][take], best[2][take] = g[better], grad[better], hess[better]
-            memo.clear()
+            for crease in self.creases:
+                rows = crease.rows(p, r)
+                better = rows.value > best[0][rows.index]
+                take = rows.index[better]
+                if creases == "held":
+                    best[0][take], best[1][take], best[2][take] = CREASE_HELD, 0.0, 0.0
+                else:
+                    best[0][take], best[1][take], best[2][take] = (rows.value[better], rows.gradient[better],
+                                                                    rows.hessian[better])
             memo.update(key=key, value=tuple(best))
         return memo["value"]
+
+    def crease_contacts(self, nodes: FloatArray, bar_radius: FloatArray,
+                        node_radius: FloatArray) -> tuple[CreaseMinima, ...]:
+        """Per crease, where it comes nearest the wire ``nodes`` (n + 1, 3; the clamp first) of bar and node radii
+        (n,), in its cone and reach (:meth:`guidewire.vessel3d.crease.Crease.minima`): the :data:`CREASE_SLOTS`
+        nearest, in their order along the wire."""
+        nodes = np.ascontiguousarray(nodes, dtype=float)
+        key = (nodes.tobytes(), np.asarray(bar_radius, dtype=float).tobytes(),
+               np.asarray(node_radius, dtype=float).tobytes())
+        memo = self._memo
+        if memo.get("crease_key") != key:
+            out = []
+            for crease in self.creases:
+                found = crease.minima(nodes, np.asarray(bar_radius, dtype=float),
+                                      np.asarray(node_radius, dtype=float))
+                if found.bar.size > CREASE_SLOTS:
+                    found = found.take(np.sort(np.argsort(found.value, kind="stable")[:CREASE_SLOTS]))
+                out.append(found)
+            memo["crease_key"], memo["crease_value"] = key, tuple(out)
+        return memo["crease_value"]
 
     @property
     def tube_names(self) -> tuple[str, ...]:
@@ -200,8 +255,8 @@ class Vessel3D:
         return np.argmax(depth, axis=0)
 
     def clearance(self, points: FloatArray, radii: FloatArray | float = 0.0) -> tuple[FloatArray, FloatArray]:
-        """``(D, n)``: the largest ``R(u) − r − |p − c(u)|`` over the tubes (mm, > 0 inside by that margin) and the
-        inward unit normal at each point (m, 3)."""
+        """``(D, n)``: the largest ``R(u) − r − |p − c(u)|`` over the tubes, or beside a crease the distance from it
+        less ``r`` (mm, > 0 inside by that margin), and the inward unit normal at each point (m, 3)."""
         p = np.atleast_2d(np.asarray(points, dtype=float))
         r = np.broadcast_to(np.asarray(radii, dtype=float), (len(p),))
         best_d = np.full(len(p), -np.inf)
@@ -215,6 +270,11 @@ class Vessel3D:
             better = d > best_d
             best_d = np.where(better, d, best_d)
             best_n = np.where(better[:, None], n, best_n)
+        for crease in self.creases:
+            rows = crease.rows(p, np.asarray(r, dtype=float))
+            better = rows.value > best_d[rows.index]
+            best_d[rows.index[better]] = rows.value[better]
+            best_n[rows.index[better]] = rows.gradient[better]
         return best_d, best_n
 
     def centrelines(self, spacing: float = 1.0) -> list[FloatArray]:

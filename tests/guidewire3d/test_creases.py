@@ -1,0 +1,162 @@
+"""The creases around 3-D branch openings: on both walls, the node's row is its exact distance from the crease in
+the crease's cone, derivatives against central differences (nodes, bars, the program's block), and the places a
+crease holds a wire follow the wire along it."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from guidewire.vessel3d.arch import aortic_arch
+from guidewire.vessel3d.crease import Crease, find_creases
+
+
+@pytest.fixture(scope="module")
+def arch():
+    return aortic_arch("I")
+
+
+def _cone_points(crease: Crease, count: int, seed: int, depth: tuple[float, float]) -> tuple[np.ndarray, ...]:
+    """Points ``X + δ u`` in the cone of random crease points ``X``: ``u`` a random direction between the two walls'
+    directions away from the crease (``−e_j``, ``−e_o``: the cone's sides) in the plane normal to the crease."""
+    rng = np.random.default_rng(seed)
+    sigma = rng.uniform(crease.lo, crease.hi, count)
+    x, k1 = crease.spline(sigma), crease.spline(sigma, 1)
+    t = k1 / np.linalg.norm(k1, axis=1)[:, None]
+    inward = []
+    for tube in crease._tubes:
+        e = tube.closest(x, np.zeros(count))
+        v = e.centre - x
+        inward.append(v / np.linalg.norm(v, axis=1)[:, None])
+    n_j, n_o = inward
+    # the cone's sides: the walls' normals at the crease (a point at X + δ n_j is δ from wall j, its foot X)
+    s = rng.uniform(0.05, 0.95, count)[:, None]
+    u = s * n_j + (1.0 - s) * n_o
+    u -= np.einsum("ij,ij->i", u, t)[:, None] * t
+    u /= np.linalg.norm(u, axis=1)[:, None]
+    delta = rng.uniform(*depth, count)
+    return x + delta[:, None] * u, x, delta
+
+
+def test_the_shipped_arch_has_a_crease_round_each_branch_leaving_the_aorta(arch):
+    """A crease around each of the brachiocephalic trunk, the left common carotid and the left subclavian (the
+    bifurcation at the trunk's end has corners: none there), each a closed curve on both walls to 1e-6 mm."""
+    names = {arch.tube_names[c.branch] for c in arch.creases}
+    assert names == {"brachiocephalic", "left_common_carotid", "left_subclavian"}
+    for crease in arch.creases:
+        assert arch.tube_names[crease.other] == "main"
+        x = crease.points
+        zero = np.zeros(len(x))
+        for tube in (arch.tubes[crease.branch], arch.tubes[crease.other]):
+            assert np.max(np.abs(tube.rows(x, zero)[0])) < 1e-6
+        assert np.linalg.norm(crease.spline(crease.lo) - crease.spline(crease.hi)) < 1e-12  # (closed)
+
+
+def test_creases_are_found_again_the_same(arch):
+    again = find_creases(arch.tubes)
+    for a, b in zip(arch.creases, again, strict=True):
+        assert np.array_equal(a.points, b.points)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_a_node_in_a_creases_cone_is_its_distance_from_the_crease(arch, seed):
+    """At ``X + δ u`` in the cone the row is ``δ − r`` (the crease is its nearest boundary point), above both tubes'
+    rows (each tube alone would put the ball against a wall that lies inside the other tube there)."""
+    r = 0.35
+    for crease in arch.creases:
+        p, _, delta = _cone_points(crease, 40, seed, (0.2, 1.0))
+        rows = crease.rows(p, np.full(len(p), r))
+        assert rows.index.size >= 30  # (a few fall outside the reach or past a neighbour's nearest point)
+        assert np.allclose(rows.value, delta[rows.index] - r, rtol=0, atol=1e-9)
+        lumen = arch.lumen_rows(p, np.full(len(p), r))[0]
+        tubes = np.max([t.rows(p, np.full(len(p), r))[0] for t in arch.tubes], axis=0)
+        assert np.all(lumen[rows.index] == rows.value)
+        assert np.all(tubes[rows.index] < rows.value)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_node_crease_rows_match_central_differences(arch, seed):
+    """``∇g = ŵ`` and ``∇²g`` (the distance to a curve, envelope theorem) against central differences (h = 1e-5 mm:
+    truncation ~h²/d³ ≈ 1e-9, rounding ~eps/h ≈ 1e-11)."""
+    h = 1e-5
+    for crease in arch.creases:
+        p, _, _ = _cone_points(crease, 30, seed, (0.3, 1.0))
+        r = np.full(len(p), 0.3)
+        rows = crease.rows(p, r)
+        q = p[rows.index]
+        for i in range(3):
+            step = np.zeros(3)
+            step[i] = h
+            plus, minus = crease.rows(q + step, r[rows.index]), crease.rows(q - step, r[rows.index])
+            assert plus.index.size == minus.index.size == q.shape[0]
+            assert np.allclose((plus.value - minus.value) / (2 * h), rows.gradient[:, i], rtol=0, atol=1e-8)
+            assert np.allclose((plus.gradient - minus.gradient) / (2 * h), rows.hessian[:, :, i], rtol=0,
+                               atol=1e-6 * max(1.0, float(np.abs(rows.hessian).max())))
+
+
+def _crossing_wires(crease: Crease, count: int, seed: int, gap: float) -> tuple[np.ndarray, np.ndarray]:
+    """Short polylines (5 nodes, 0.5 mm bars, a small bend) crossing the crease's cone ``gap`` mm from it."""
+    rng = np.random.default_rng(seed)
+    p, x, _ = _cone_points(crease, count, seed, (gap, gap))
+    k1 = crease.spline(crease.closest(p), 1)
+    t = k1 / np.linalg.norm(k1, axis=1)[:, None]
+    w = p - x
+    w /= np.linalg.norm(w, axis=1)[:, None]
+    across = np.cross(t, w)  # (along the wire: normal to the crease and to the way to it)
+    tilt = rng.uniform(-0.6, 0.6, count)
+    direction = np.cos(tilt)[:, None] * across + np.sin(tilt)[:, None] * t
+    shift = rng.uniform(-0.25, 0.25, count)
+    s = 0.5 * (np.arange(5) - 2.0)
+    bend = 0.08 * (s**2)[None, :, None] * w[:, None, :]  # (bowed away from the crease: one nearest place)
+    nodes = p[:, None, :] + (s[None, :, None] + shift[:, None, None]) * direction[:, None, :] + bend
+    return nodes, w
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_crease_minima_rows_match_central_differences(arch, seed):
+    """The rows of the places a crease comes nearest a wire — inside a bar (the envelope theorem over ``(τ, φ)``)
+    or at a node — against central differences of their values and gradients over both of the bar's nodes."""
+    h = 1e-6
+    checked = {"bar": 0, "node": 0}
+    for crease in arch.creases:
+        walls, _ = _crossing_wires(crease, 12, seed, 0.4)
+        for nodes in walls:
+            radius = np.full(len(nodes) - 1, 0.3)
+            found = crease.minima(nodes, radius, radius)
+            for j in range(found.bar.size):
+                k = int(found.bar[j])
+                kind = "node" if found.fraction[j] >= 1.0 else "bar"
+                checked[kind] += 1
+                for col in range(6):
+                    if k == 0 and col < 3:
+                        continue
+                    step = np.zeros_like(nodes)
+                    step[k + col // 3, col % 3] = h
+                    plus = crease.minima(nodes + step, radius, radius)
+                    minus = crease.minima(nodes - step, radius, radius)
+                    jp = int(np.flatnonzero(plus.bar == k)[0])
+                    jm = int(np.flatnonzero(minus.bar == k)[0])
+                    assert (plus.value[jp] - minus.value[jm]) / (2 * h) == pytest.approx(found.gradient[j, col],
+                                                                                           abs=1e-7)
+                    fd = (plus.gradient[jp] - minus.gradient[jm]) / (2 * h)
+                    assert np.allclose(fd, found.hessian[j, :, col], rtol=0,
+                                       atol=2e-5 * max(1.0, float(np.abs(found.hessian[j]).max())))
+    assert checked["bar"] >= 20
+
+
+def test_a_wire_bowed_over_a_crease_has_one_place_inside_a_bar_at_its_distance(arch):
+    """A wire crossing the cone ``gap`` from the crease and bowed away from it comes nearest once: inside a bar,
+    ``gap − r`` from it to second order in the bow, the foot's ``τ`` in (0, 1) — and the place moves with the wire
+    as it slides along itself (the same slot)."""
+    r, gap = 0.3, 0.5
+    for crease in arch.creases:
+        walls, w = _crossing_wires(crease, 10, 3, gap)
+        for nodes in walls:
+            radius = np.full(len(nodes) - 1, r)
+            found = crease.minima(nodes, radius, radius)
+            assert found.bar.size == 1
+            assert 0.0 < found.fraction[0] <= 1.0
+            assert found.value[0] == pytest.approx(gap - r, abs=0.03)
+            slid = nodes + 0.1 * (nodes[-1] - nodes[0]) / np.linalg.norm(nodes[-1] - nodes[0])
+            moved = crease.minima(slid, radius, radius)
+            assert moved.bar.size == 1 and abs(moved.bar[0] - found.bar[0]) <= 1

@@ -98,6 +98,19 @@ def run_ipopt_program(program: Program) -> dict[str, Any]:
     union = sp.csc_matrix(program.hess(z0), copy=True)
     for r, size in zip(rows, m, strict=True):
         union = union + abs(r["hess"](z0, np.ones(size)))
+    if program.has_creases:
+        # (the creases' rows follow the wire: their entries move from bar to bar, so IPOPT is given every place they
+        # can take — each row over all node columns, the Hessian over every pair of neighbouring nodes)
+        node_cols = (program.width * np.arange(program.n)[:, None] + 3 + np.arange(3)).ravel()
+        first = sum(m[:-1])
+        keep = j_rows < first
+        crease = np.arange(first, first + m[-1])
+        j_rows = np.concatenate((j_rows[keep], np.repeat(crease, node_cols.size)))
+        j_cols = np.concatenate((j_cols[keep], np.tile(node_cols, crease.size)))
+        blocks = node_cols.reshape(-1, 3)
+        pairs = [(a, b) for k in range(program.n) for a in blocks[k] for b in blocks[max(k - 1, 0):k + 2].ravel()]
+        reach = sp.coo_matrix((np.ones(len(pairs)), tuple(np.array(pairs).T)), shape=union.shape)
+        union = union + reach
     h_all = sp.coo_matrix(union)
     lower = h_all.row >= h_all.col
     h_rows, h_cols = h_all.row[lower], h_all.col[lower]

@@ -122,6 +122,7 @@ class ConvexifiedExact:
         # W + r0 C^T C is tested first (one factorisation less when W is indefinite, the same answer)
         self.definite = not np.any(self.lam0)
         self.rows: Array = np.zeros(0, dtype=np.intp)
+        self.widened = False  # (whether the last model needed the term on every held row)
         self.held: Array | None = None  # (the rows the last QP found held, :func:`~sqp.multipliers.held_rows`)
         self.factored: FactoredHessian | None = None
 
@@ -143,25 +144,40 @@ class ConvexifiedExact:
         W = ev.lagrangian_hessian(st.pt.x, lam)
         if ev.hessian_nonfinite is not None:
             return None
+        widen = self.allowed is not None and held.size > self.rows.size
+        if widen and self.widened:  # (they were needed last time: tried first, the W it leaves indefinite spared)
+            found = self._widened(W, st, held)
+            if found is not None:
+                return found
         C = equality_rows(self.problem, st.der.J, self.rows)
         B, self.shift, self.weight = convexify(W, self.shift, C, self.weight, self.definite,
                                                self.problem.equality_only, self.rungs)
-        if self.allowed is not None and self.shift > 0.0 and held.size > self.rows.size:
+        self.widened = False
+        if widen and self.shift > 0.0:
             # (the given rows leave W indefinite: every held row joins the term before any identity shift — a shift
             # as large as the softest mode the held rows stabilise, a wire pushed against the walls and over a
             # crease, made each step move a few percent of the way)
-            C_all = equality_rows(self.problem, st.der.J, held)
-            found = convexify(W, 0.0, C_all, self.weight, False, self.problem.equality_only, self.rungs)
-            if found[1] == 0.0:
-                B, self.shift, self.weight = found
-                self.rows = held
-                return self._keep(B)
+            found = self._widened(W, st, held)
+            if found is not None:
+                return found
         if (not self.inequalities or self.allowed is not None or self.rungs is not None) and self.shift > 0.0 \
                 and C is not None:
             # W is not positive definite on the held rows' null space (or only with a weight past the ladder's
             # rungs): the shift goes on top of the augmented-Lagrangian term, so that it need only cover that null
             # space (W alone can be far more indefinite across the rows: a compressed wire's closure forces)
             B, self.shift, self.weight = shifted_augmented(W, C, self.shift)
+        return self._keep(B)
+
+    def _widened(self, W: Any, st: State, held: Array) -> Any:
+        """The model with the term on every ``held`` row when that makes it positive definite without a shift (and
+        ``widened`` set, so the next iteration tries it first), else None."""
+        C_all = equality_rows(self.problem, st.der.J, held)
+        found = convexify(W, 0.0, C_all, self.weight, False, self.problem.equality_only, self.rungs)
+        self.widened = found[1] == 0.0
+        if not self.widened:
+            return None
+        B, self.shift, self.weight = found
+        self.rows = held
         return self._keep(B)
 
     def _keep(self, B: Any) -> Any:

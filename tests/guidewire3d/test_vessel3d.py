@@ -309,6 +309,18 @@ def test_the_wire_slides_over_a_branchs_ridge():
         force, moment = s.balance()
         assert force <= 1e-6 * sum(f.magnitude for f in s.forces) and moment <= 1e-6 * 250.0 * max(
             f.magnitude for f in s.forces)
+    # every bar of every step keeps its radius from every crease (the crease is on the lumen's boundary: no bar
+    # passes over it closer, nor behind it through the wall), and every node is in the lumen
+    for s in out.steps:
+        middle = np.cumsum(s.lengths) - 0.5 * s.lengths
+        radius = 0.5 * scene.wire.with_length(float(np.sum(s.lengths))).properties_at(middle).diameter
+        for crease in scene.vessel.creases:
+            a, b = s.nodes[:-1], s.nodes[1:]
+            tau, phi = crease._segments(a, b)
+            gap = np.linalg.norm(a + tau[:, None] * (b - a) - crease.spline(phi), axis=1)
+            assert np.min(gap - radius) >= -1e-6
+        node_radius = np.maximum(radius, np.append(radius[1:], radius[-1]))  # (as the program: the larger)
+        assert scene.vessel.lumen_rows(s.nodes[1:], node_radius)[0].min() >= -1e-6
 
 
 @pytest.mark.parametrize("length", [35.0, 45.0, 55.0, 65.0, 75.0])

@@ -198,6 +198,10 @@ def guessed_qp(B: Any, g: Array, E: Any, e: Array, G: Any, h: Array, active: NDA
     docstring)."""
     G = sp.csr_matrix(G)
     E = sp.csr_matrix(E)
+    # (a row whose linearisation has no gradient cannot hold a step: held in a guess, it made the KKT matrix
+    # singular and sent the QP to a backend — a node row that yields to the crease rows beside a branch's opening,
+    # carried active from the step before)
+    active = np.asarray(active, dtype=bool) & (np.asarray(abs(G).sum(axis=1)).ravel() > 0.0)
     parts = _KKTParts(B, E, G)
     every_equality = np.ones(e.size, dtype=bool)
     return corrected_guess(lambda rows, rhs: parts.solve(every_equality, rows, g, rhs),

@@ -58,6 +58,25 @@ def test_guessed_qp_is_the_backends_solution(seed, off):
     assert np.all(z >= 0.0)
 
 
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_a_guessed_row_without_a_gradient_is_left_out(seed):
+    """Rows with a zero gradient and a positive bound (a row that cannot hold: a node row yielding to another
+    block's) guessed active with the right ones: the backend's solution, in one solve, as without them."""
+    P, q, E, e, G, h = _chain_qp(60, seed)
+    zero = sp.csr_matrix((5, 60))
+    G2 = sp.vstack((G, zero), format="csr")  # (stored as empty rows; explicit zeros below)
+    G3 = sp.csr_matrix((np.zeros(5), (np.arange(60, 65), np.arange(5))), shape=(65, 60)) + G2
+    h2 = np.concatenate((h, np.full(5, 1.0)))
+    ref = _reference(P, q, E, e, G, h)
+    active = np.concatenate((ref.z > 1e-6, np.ones(5, dtype=bool)))
+    for rows in (G2, G3):
+        found = guessed_qp(P, q, E, e, rows, h2, active, 1.0, solves=1)
+        assert found is not None
+        d, _, z = found
+        np.testing.assert_allclose(d, ref.x, atol=1e-8)
+        assert np.all(z[60:] == 0.0)
+
+
 def test_a_guess_that_needs_more_corrections_is_refused():
     """From no row guessed active, two solves do not reach a solution with many binding rows: None (the caller
     asks its backends)."""

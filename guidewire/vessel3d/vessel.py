@@ -140,6 +140,7 @@ class Vessel3D:
             tubes.append(tube)
         object.__setattr__(self, "_tubes", tuple(tubes))
         object.__setattr__(self, "_memo", {})
+        object.__setattr__(self, "_creases", None)
 
     def __getstate__(self) -> dict[str, Any]:
         return {"centreline": self.centreline, "radius": self.radius, "branches": self.branches, "name": self.name}

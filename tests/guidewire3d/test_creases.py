@@ -160,3 +160,13 @@ def test_a_wire_bowed_over_a_crease_has_one_place_inside_a_bar_at_its_distance(a
             slid = nodes + 0.1 * (nodes[-1] - nodes[0]) / np.linalg.norm(nodes[-1] - nodes[0])
             moved = crease.minima(slid, radius, radius)
             assert moved.bar.size == 1 and abs(moved.bar[0] - found.bar[0]) <= 1
+
+
+def test_a_pickled_vessel_finds_the_same_creases(arch):
+    """Batch workers get vessels by pickle: the creases are found again there, the same."""
+    import pickle
+
+    again = pickle.loads(pickle.dumps(arch))
+    assert len(again.creases) == len(arch.creases)
+    for a, b in zip(arch.creases, again.creases, strict=True):
+        assert np.array_equal(a.points, b.points)

@@ -169,6 +169,17 @@ def _convexify(W: Any, shift: float, C: Any, rho: float, alone_first: bool = Tru
     return _shift_ladder(W, shift, scale, is_sparse, BandPencil.of(W) if is_sparse else None)
 
 
+def augmented(W: Any, C: Any, rho: float, max_rungs: int) -> tuple[Any, float, float] | None:
+    """Path 2 of :func:`convexify` alone: ``W + r C^T C`` for the first weight of at most ``max_rungs`` (from
+    ``rho / WEIGHT_DECAY`` or the first weight) that is positive definite, as ``(B, 0, r)``; None when none is (no
+    identity shift is tried)."""
+    if sp.issparse(W) and W.shape[0] <= DENSE_LIMIT:
+        W = W.toarray()
+    is_sparse = sp.issparse(W)
+    scale = max(1.0, float(np.abs(W.diagonal()).max()))
+    return _augmented_ladder(W, _gram(C, is_sparse), rho, 0, scale, is_sparse, max_rungs)
+
+
 #: The augmented-Lagrangian weight ``r`` of path 2 starts where ``r C^T C``'s diagonal is this fraction of ``W``'s
 #: largest (at least 1): small enough to leave a convex ``W`` nearly unchanged on the rows' null space.
 AL_WEIGHT_START = 1e-3

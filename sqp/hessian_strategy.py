@@ -14,13 +14,18 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from sqp.hessian import convexify, damped_bfgs_update, initial_scaling, shifted_augmented
+from sqp.hessian import augmented, convexify, damped_bfgs_update, initial_scaling, shifted_augmented
 from sqp.iterate import Derivatives, Evaluator, State
 from sqp.kkt import inf_norm
 from sqp.multipliers import al_rows, equality_rows, held_rows, newton_multipliers, nonlinear_lagrangian_gradient
 from sqp.problem import Problem
 from sqp.structured import FactoredHessian
 from sqp.subproblem import QPStep
+
+#: Weights tried (tenfold apart, from the last one) for the augmented-Lagrangian term on every held row, where the
+#: given rows' term leaves the model indefinite: a few, as the ladder of :func:`sqp.hessian.convexify` runs on its
+#: own rows first (most widenings that need more fail anyway, and each weight is a factorisation).
+WIDENED_RUNGS = 10
 
 Array = NDArray[np.float64]
 
@@ -123,6 +128,7 @@ class ConvexifiedExact:
         self.definite = not np.any(self.lam0)
         self.rows: Array = np.zeros(0, dtype=np.intp)
         self.widened = False  # (whether the last model needed the term on every held row)
+        self.widen_failed = False  # (whether it was tried and did not help: not tried again at the next model)
         self.held: Array | None = None  # (the rows the last QP found held, :func:`~sqp.multipliers.held_rows`)
         self.factored: FactoredHessian | None = None
 
@@ -153,7 +159,9 @@ class ConvexifiedExact:
         B, self.shift, self.weight = convexify(W, self.shift, C, self.weight, self.definite,
                                                self.problem.equality_only, self.rungs)
         self.widened = False
-        if widen and self.shift > 0.0:
+        if widen and self.shift > 0.0 and self.widen_failed:
+            self.widen_failed = False  # (skipped once)
+        elif widen and self.shift > 0.0:
             # (the given rows leave W indefinite: every held row joins the term before any identity shift — a shift
             # as large as the softest mode the held rows stabilise, a wire pushed against the walls and over a
             # crease, made each step move a few percent of the way)
@@ -169,12 +177,13 @@ class ConvexifiedExact:
         return self._keep(B)
 
     def _widened(self, W: Any, st: State, held: Array) -> Any:
-        """The model with the term on every ``held`` row when that makes it positive definite without a shift (and
-        ``widened`` set, so the next iteration tries it first), else None."""
+        """The model with the term on every ``held`` row when a weight of :data:`WIDENED_RUNGS` makes it positive
+        definite (and ``widened`` set, so the next iteration tries it first), else None."""
         C_all = equality_rows(self.problem, st.der.J, held)
-        found = convexify(W, 0.0, C_all, self.weight, False, self.problem.equality_only, self.rungs)
-        self.widened = found[1] == 0.0
-        if not self.widened:
+        found = augmented(W, C_all, self.weight, WIDENED_RUNGS)
+        self.widened = found is not None
+        self.widen_failed = not self.widened
+        if found is None:
             return None
         B, self.shift, self.weight = found
         self.rows = held

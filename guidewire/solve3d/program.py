@@ -230,7 +230,7 @@ class Program:
 
     @property
     def has_creases(self) -> bool:
-        """Whether the program has the creases' bar rows (a vessel whose lumen has creases)."""
+        """Whether the program has the creases' rows (a vessel whose lumen has creases)."""
         return bool(getattr(self.scene.vessel, "creases", ()))
 
     def crease_rows(self) -> tuple[int, ...]:
@@ -243,8 +243,9 @@ class Program:
     def crease_contacts(self, z: FloatArray) -> Any:
         """Where each crease comes nearest the wire at ``z``
         (:meth:`guidewire.vessel3d.vessel.Vessel3D.crease_contacts`)."""
-        return self.scene.vessel.crease_contacts(self.split(z)[1], bar_radii(self.scene, self.lengths),
-                                                 node_radii(self.scene, self.lengths))
+        if "radii" not in self._cache:
+            self._cache["radii"] = (bar_radii(self.scene, self.lengths), node_radii(self.scene, self.lengths))
+        return self.scene.vessel.crease_contacts(self.split(z)[1], *self._cache["radii"])
 
     def _closure(self) -> dict[str, Any]:
         n, s, lengths, W = self.n, self.scale, self.lengths, self.width

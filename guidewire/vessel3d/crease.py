@@ -122,9 +122,8 @@ class Crease:
         self.tree = cKDTree(self.samples)
         self.spacing = float(self.sigma[1] - self.sigma[0])
         self._tubes = (tubes[branch], tubes[other])
-        # (radii of the two tubes at the samples: the reach of the rows, fixed per crease point)
-        self.sample_reach = REACH * np.minimum(*(t.closest(self.samples, np.zeros(count)).radius
-                                                for t in self._tubes))
+        # (the walls' directions away from the crease and the rows' reach at the samples, interpolated between)
+        self._e_j, self._e_o, self.sample_reach = self._cone_sides(self.samples, self.spline(self.sigma, 1))
         self.reach = float(self.sample_reach.max())
         self.box = np.stack((self.samples.min(axis=0), self.samples.max(axis=0)))
 
@@ -171,7 +170,7 @@ class Crease:
         x, d1, d2 = self.spline(sigma), self.spline(sigma, 1), self.spline(sigma, 2)
         w = q - x
         d = np.sqrt(np.einsum("ij,ij->i", w, w))
-        cone = self._in_cone(x, d1, w, d) & (d > 0.0)
+        cone = self._in_cone(sigma, w, d) & (d > 0.0)
         if not cone.any():
             return empty
         i = np.flatnonzero(cone)
@@ -257,7 +256,7 @@ class Crease:
         dd = np.einsum("ij,ij->i", d, d)
         w = a + tau[:, None] * d - x
         dist = np.sqrt(np.einsum("ij,ij->i", w, w))
-        keep = (dist > 0.0) & self._in_cone(x, k1, w, dist)
+        keep = (dist > 0.0) & self._in_cone(sigma, w, dist)
         if not keep.any():
             return CreaseMinima.empty()
         i = np.flatnonzero(keep)
@@ -289,7 +288,7 @@ class Crease:
         x, k1, k2 = self.spline(sigma), self.spline(sigma, 1), self.spline(sigma, 2)
         w = p - x
         dist = np.sqrt(np.einsum("ij,ij->i", w, w))
-        keep = (dist > 0.0) & self._in_cone(x, k1, w, dist)
+        keep = (dist > 0.0) & self._in_cone(sigma, w, dist)
         if not keep.any():
             return CreaseMinima.empty()
         i = np.flatnonzero(keep)
@@ -301,8 +300,9 @@ class Crease:
         hess[:, 3:, 3:] = _point_hessian(unit, dist, k1, k2)
         return CreaseMinima(node[i] - 1, np.ones(m), dist - r[i], grad, hess, x[i])
 
-    def _in_cone(self, x: FloatArray, k1: FloatArray, w: FloatArray, dist: FloatArray) -> NDArray[np.bool_]:
-        """Whether ``w`` (from crease points ``x`` with tangents ``k1``) lies in the crease's cone within reach."""
+    def _cone_sides(self, x: FloatArray, k1: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """At crease points ``x`` with tangents ``k1``: the directions ``e_j``, ``e_o`` in which the two walls leave
+        the crease (normal to it, each away from the other tube) and the rows' reach."""
         tangent = k1 / np.linalg.norm(k1, axis=1)[:, None]
         inward, radius = [], []
         for tube in self._tubes:
@@ -315,8 +315,19 @@ class Crease:
         e_j *= np.where(np.einsum("ij,ij->i", e_j, n_o) < 0.0, 1.0, -1.0)[:, None]
         e_o = np.cross(n_o, tangent)
         e_o *= np.where(np.einsum("ij,ij->i", e_o, n_j) < 0.0, 1.0, -1.0)[:, None]
-        return ((np.einsum("ij,ij->i", w, e_j) <= 0.0) & (np.einsum("ij,ij->i", w, e_o) <= 0.0)
-                & (dist <= REACH * np.minimum(*radius)))
+        return e_j, e_o, REACH * np.minimum(*radius)
+
+    def _in_cone(self, sigma: FloatArray, w: FloatArray, dist: FloatArray) -> NDArray[np.bool_]:
+        """Whether ``w`` (from the crease points at ``sigma``) lies in the crease's cone within its reach: the
+        walls' directions and the reach interpolated linearly between the samples (a cone's side is placed to
+        ~1e-5 rad; on it the crease's row and the wall's agree to first order, so the switch is smooth there)."""
+        at = (sigma - self.lo) / self.spacing
+        i = np.clip(np.floor(at).astype(np.intp), 0, len(self.sigma) - 2)
+        t = (at - i)[:, None]
+        e_j = (1.0 - t) * self._e_j[i] + t * self._e_j[i + 1]
+        e_o = (1.0 - t) * self._e_o[i] + t * self._e_o[i + 1]
+        reach = (1.0 - t[:, 0]) * self.sample_reach[i] + t[:, 0] * self.sample_reach[i + 1]
+        return (np.einsum("ij,ij->i", w, e_j) <= 0.0) & (np.einsum("ij,ij->i", w, e_o) <= 0.0) & (dist <= reach)
 
 
 def _point_hessian(unit: FloatArray, dist: FloatArray, k1: FloatArray, k2: FloatArray) -> FloatArray:

@@ -40,9 +40,10 @@ def _problem(a: float, eps: float, g: np.ndarray, extra: bool) -> tuple:
 @pytest.mark.parametrize("seed", [0, 1, 2])
 @pytest.mark.parametrize("extra", [False, True])
 def test_held_rows_replace_the_shift_where_the_given_rows_leave_w_indefinite(a, seed, extra):
-    """Given no rows (``()``) the solve takes as many iterations as with every held row (``True``) — the held row
-    joins the term wherever W needs it — and reaches the point the shift (``False``) does, in fewer iterations
-    (the shift takes 3-10 times as many here)."""
+    """Given no rows (``()``) the held row joins the term wherever ``W`` needs it (after a try that did not help,
+    not at the next iteration): the solve reaches the point of every held row's term (``True``) in at most twice its
+    iterations (measured: the same in 14 of 18 cases, 14 against 8 at most) and of the shift (``False``) in fewer
+    (the shift takes 3-10 times as many as ``True`` here)."""
     rng = np.random.default_rng(seed)
     g = np.concatenate(([-rng.uniform(0.5, 2.0)], rng.normal(0.0, 1.0, 3)))
     eps = rng.uniform(0.05, 0.2)
@@ -55,13 +56,13 @@ def test_held_rows_replace_the_shift_where_the_given_rows_leave_w_indefinite(a, 
     for res in runs.values():
         assert res.success
     reference = runs[True].x
-    np.testing.assert_allclose(runs[()].x, reference, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(runs[()].x, reference, rtol=0, atol=1e-9)
     # (the shifted steps stop, the KKT residual below tol, while still creeping along x₂..x₄ at the rate
     # 1/(1 + shift): up to 5e-6 away at a = 300, the energy the same to second order in that)
     np.testing.assert_allclose(runs[False].x, reference, rtol=0, atol=1e-4)
     assert runs[False].fun == pytest.approx(runs[True].fun, rel=1e-9)
     assert abs(1.0 - reference[0] - eps * reference[1] ** 2) < 1e-10  # (the row holds)
-    assert runs[()].nit == runs[True].nit
+    assert runs[()].nit <= 2 * runs[True].nit
     assert runs[()].nit < runs[False].nit
 
 

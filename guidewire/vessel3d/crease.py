@@ -126,6 +126,7 @@ class Crease:
         self._e_j, self._e_o, self.sample_reach = self._cone_sides(self.samples, self.spline(self.sigma, 1))
         self.reach = float(self.sample_reach.max())
         self.box = np.stack((self.samples.min(axis=0), self.samples.max(axis=0)))
+        self.chord = float(np.max(np.linalg.norm(np.diff(self.samples, axis=0), axis=1)))  # (samples' spacing)
 
     @property
     def points(self) -> FloatArray:
@@ -226,6 +227,11 @@ class Crease:
         lo_box, hi_box = np.minimum(a, b), np.maximum(a, b)
         outside = np.maximum(np.maximum(self.box[0] - hi_box, lo_box - self.box[1]), 0.0)
         near = np.flatnonzero(np.einsum("ij,ij->i", outside, outside) <= self.reach**2)
+        if near.size:
+            # (and whose middle's nearest sample, less half the bar and a sample chord, is within the reach)
+            half = 0.5 * np.linalg.norm(b[near] - a[near], axis=1)
+            gap, _ = self.tree.query(0.5 * (a[near] + b[near]))
+            near = near[gap - half - self.chord <= self.reach]
         if not near.size:
             return CreaseMinima.empty()
         tau, sigma = self._segments(a[near], b[near])

@@ -24,9 +24,18 @@ the creases': exact at contact, and a node touching a crease is pushed straight 
 Construction. Around each branch ``j`` (its wall at angle ``φ`` about its axis, the envelope of its balls), the first
 ``u`` at which the wall leaves the other tubes (``max_{i≠j} g_i = 0`` with ``r = 0``) is bracketed on a grid and
 found by a bracketed root search, for :data:`ANGLES` angles; the crease is the periodic cubic spline through these
-points in ``φ`` (on both walls to ~1e-7 mm on the shipped arches). Only a branch that leaves the side wall of one
+points in ``φ`` (on both walls to ≤ 6e-7 mm on the shipped arches). Only a branch that leaves the side wall of one
 other tube has one: where a crease would meet a third wall (a bifurcation at a branch's end, as stEVE's
 brachiocephalic trunk's) it has corners a spline would round off, and those nodes keep the tubes' rows.
+
+A wire's rows (:meth:`Crease.minima`). A crease holds a wire where it comes nearest it: inside a bar — the nearest
+pair of the segment ``P(τ) = (1 − τ) a + τ b`` and the crease, ``g = |P − X| − r`` with gradient ``(1 − τ) ŵ``,
+``τ ŵ`` over the bar's two nodes and the Hessian of the envelope theorem over ``(τ, φ)``::
+
+    ∇²g = B (I − ŵŵᵀ) Bᵀ / |w| − F (F_yy)⁻¹ Fᵀ,   B = [(1 − τ) I; τ I],   F = [∂∇g/∂τ, ∂∇g/∂φ] (6 × 2)
+
+— or at a node, nearer than both its bars' inner points (the node's distance above). The 3-D program gives these
+places rows that follow them along the wire (:mod:`guidewire.solve3d.program`).
 """
 
 from __future__ import annotations
@@ -47,11 +56,11 @@ ANGLES = 256
 """Angles about a branch's axis at which its crease is found (the spline's knots around a closed crease)."""
 
 SCAN_STEP = 0.1
-"""Grid step along a branch (in its start radius) on which the crease is bracketed before bisection."""
+"""Grid step along a branch (in its start radius) on which the crease is bracketed before the root search."""
 
 ROOT_STEPS = 40
 """Most steps of the bracketed root search (Illinois) of each crease point along the branch; it stops once every
-bracket is below 1e-12 of the branch's length."""
+point's row is within 1e-14 of the largest radius of zero, or its bracket within 1e-13 of the grid step."""
 
 NEWTON_STEPS = 8
 """Newton steps on a crease's parameter from the nearest sample (quadratic from within a sample spacing)."""

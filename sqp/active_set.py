@@ -28,6 +28,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.linalg import lapack
 
+from sqp.compressed import as_csr
 from sqp.kkt import inf_norm
 from sqp.qp_call import QP_RESIDUAL_TOL
 
@@ -196,8 +197,8 @@ def guessed_qp(B: Any, g: Array, E: Any, e: Array, G: Any, h: Array, active: NDA
     definite; qpsolvers' signs: ``B d + g + E^T y + G^T z = 0``, ``z >= 0``) from the rows ``active`` (bool (m_G,))
     guessed active, or None when ``solves`` solves (default :data:`MAX_GUESSES`) do not find it (see the module
     docstring)."""
-    G = sp.csr_matrix(G)
-    E = sp.csr_matrix(E)
+    G = as_csr(G)
+    E = as_csr(E)
     parts = _KKTParts(B, E, G)
     every_equality = np.ones(e.size, dtype=bool)
     return corrected_guess(lambda rows, rhs: parts.solve(every_equality, rows, g, rhs),

@@ -10,6 +10,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from sqp.compressed import as_csc
 from sqp.hessian import DENSE_LIMIT, STRUCTURED_MIN
 from sqp.kkt import max_violation
 from sqp.problem import NonlinearBlock, Problem, StartValues, call_user, check_jacobian_shape
@@ -216,7 +217,7 @@ class Evaluator:
             else:
                 W = W - _as_format(Hc, dense)
         if sp.issparse(W):
-            return sp.csc_matrix(W)
+            return as_csc(W)
         return np.asarray(W)
 
     def _hessian(self, name: str, H: Any, n: int) -> Any:
@@ -235,7 +236,7 @@ def _as_format(H: Any, dense: bool) -> Any:
     """``H`` as a float ndarray (``dense``) or a CSC matrix."""
     if dense:
         return H.toarray() if sp.issparse(H) else np.array(H, dtype=float)
-    return sp.csc_matrix(H, dtype=float)
+    return as_csc(H, dtype=float)
 
 
 @dataclass(frozen=True)

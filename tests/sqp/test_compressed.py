@@ -1,0 +1,52 @@
+"""sqp.compressed: a matrix already in the asked format is returned itself, anything else as the constructor gives it;
+the single-block stacks of the subproblem and the augmented-Lagrangian rows never alias the caller's matrices."""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from sqp.compressed import as_csc, as_csr
+from sqp.problem import Rows
+from sqp.subproblem import LinearisedRows, _stack_rows, _vstack
+
+
+def _matrix() -> sp.csr_matrix:
+    return sp.csr_matrix(np.array([[1.0, 0.0, 2.0], [0.0, 3.0, 0.0]]))
+
+
+def test_settled_matrices_are_returned_themselves() -> None:
+    M = _matrix()
+    assert as_csr(M) is M
+    C = M.tocsc()
+    assert as_csc(C) is C
+    assert as_csc(C, dtype=float) is C
+
+
+def test_other_inputs_are_converted_like_the_constructor() -> None:
+    M = _matrix()
+    for got, want in ((as_csc(M), sp.csc_matrix(M)), (as_csr(M.tocsc()), sp.csr_matrix(M.tocsc())),
+                      (as_csr(M.toarray()), sp.csr_matrix(M.toarray())), (as_csr(sp.csr_array(M)), sp.csr_matrix(M)),
+                      (as_csc(M.tocsc().astype(np.float32), dtype=float), sp.csc_matrix(M.tocsc(), dtype=float))):
+        assert type(got) is type(want) and got.dtype == want.dtype
+        np.testing.assert_array_equal(got.toarray(), want.toarray())
+
+
+def test_unpruned_matrix_is_rebuilt() -> None:
+    M = _matrix()
+    M.data = np.concatenate((M.data, [9.0]))
+    M.indices = np.concatenate((M.indices, [0])).astype(M.indptr.dtype)
+    out = as_csr(M)
+    assert out is not M and out.data.size == out.nnz == 3
+
+
+def test_single_block_stack_is_the_block_unless_shared() -> None:
+    B = _matrix()
+    assert _vstack([B], 3, "csr") is B
+    assert _vstack([B], 3, "csr", {id(B)}) is not B
+    assert _vstack([B], 3, "csc").format == "csc"
+    J = _matrix()
+    every_row = Rows.from_bounds(np.zeros(2), np.zeros(2))  # (all equalities: the block would be J itself)
+    E, _, _, _, _ = _stack_rows([LinearisedRows(M=J, lo=every_row.lb, hi=every_row.ub, rows=every_row)], 3, "csr")
+    assert E is not J
+    np.testing.assert_array_equal(E.toarray(), J.toarray())

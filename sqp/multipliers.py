@@ -11,6 +11,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from sqp.compressed import as_csr
 from sqp.iterate import Derivatives, State
 from sqp.kkt import inf_norm
 from sqp.problem import Problem
@@ -62,8 +63,8 @@ def equality_rows(problem: Problem, J: Any, rows: Array) -> Any:
         parts.append(problem.A[problem.linear.eq])
     if not parts:
         return None
-    if len(parts) == 1 and not sp.issparse(parts[0]):  # (J[rows] and A[eq] are copies already)
-        return parts[0]
+    if len(parts) == 1 and (not sp.issparse(parts[0]) or type(parts[0]) is sp.csr_matrix):
+        return as_csr(parts[0]) if sp.issparse(parts[0]) else parts[0]  # (J[rows] and A[eq] are copies already)
     if any(sp.issparse(p) for p in parts):
         return sp.vstack(parts, format="csr")
     return np.vstack(parts)

@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 
 from sqp.active_set import FIRST_GUESSES, MAX_GUESSES, RESCUE_GUESSES, corrected_guess, guessed_qp
 from sqp.backends import elastic_backends
+from sqp.compressed import as_csr
 from sqp.kkt import inf_norm
 from sqp.problem import Rows
 from sqp.qp_call import QP_RESIDUAL_TOL, Backends, solve_qp
@@ -105,8 +106,9 @@ def _stack_rows(parts: list[LinearisedRows], n: int,
         where.append((n_eq, n_in, n_in + r.lower.size))
         n_eq += r.eq.size
         n_in += r.lower.size + r.upper.size
-    E = _vstack(E_list, n, compressed)
-    G = _vstack(G_list, n, compressed)
+    inputs = {id(part.M) for part in parts}  # (blocks that are these are not the caller's to keep: copy them)
+    E = _vstack(E_list, n, compressed, inputs)
+    G = _vstack(G_list, n, compressed, inputs)
     e = _concatenate(e_list)
     return E, e, G, inequality_bounds(parts), where
 
@@ -133,10 +135,17 @@ def _concatenate(parts: list[Array]) -> Array:
     return parts[0] if len(parts) == 1 else np.concatenate(parts) if parts else np.zeros(0)
 
 
-def _vstack(blocks: list[Any], n: int, compressed: str = "csc") -> Any:
-    """The nonempty blocks stacked (a single one as it is); ``compressed`` (CSC or CSR) when any is sparse."""
+def _vstack(blocks: list[Any], n: int, compressed: str = "csc", shared: set[int] | frozenset[int] = frozenset()) -> Any:
+    """The nonempty blocks stacked (a single one as it is); ``compressed`` (CSC or CSR) when any is sparse.
+
+    A single sparse block already a CSR matrix, when CSR is asked, is returned itself (the same arrays as
+    ``sp.vstack`` would copy) unless it is one of the matrices ``shared`` (their ``id``): those belong to the caller
+    and are copied, so that the result never aliases them."""
     if not blocks:
         return np.zeros((0, n))
+    if (len(blocks) == 1 and compressed == "csr" and type(blocks[0]) is sp.csr_matrix
+            and id(blocks[0]) not in shared):
+        return as_csr(blocks[0])
     if any(sp.issparse(b) for b in blocks):
         return sp.vstack(blocks, format=compressed)
     return blocks[0] if len(blocks) == 1 else np.vstack(blocks)

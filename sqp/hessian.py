@@ -438,7 +438,7 @@ def _positive_definite(B: Any, floor: float = 0.0) -> bool:
     ab = lower_band(B)
     if ab is not None:
         return band_positive_definite(ab, floor)
-    B = sp.csc_matrix(B)
+    B = as_csc(B)
     if not B.has_canonical_format:  # (every entry once)
         B = B.copy()
         B.sum_duplicates()

@@ -157,7 +157,7 @@ class Evaluator:
         if p.blocks:
             parts = [self._jac(b, x, None if start is None else start.J[i]) for i, b in enumerate(p.blocks)]
             if len(parts) == 1:  # (a copy, as the stacking of several: the user may reuse the array)
-                J = sp.vstack(parts, format="csr") if sp.issparse(parts[0]) else parts[0].copy()
+                J = _sparse_copy(parts[0]) if sp.issparse(parts[0]) else parts[0].copy()
             else:
                 J = sp.vstack(parts, format="csr") if any(sp.issparse(m) for m in parts) else np.vstack(parts)
         else:
@@ -230,6 +230,12 @@ class Evaluator:
         if self.hessian_nonfinite is None and not np.isfinite(data).all():
             self.hessian_nonfinite = name
         return H
+
+
+def _sparse_copy(M: Any) -> Any:
+    """A CSR copy of the sparse ``M`` (``sp.vstack([M], format="csr")``): a CSR matrix's own ``copy`` (the same
+    arrays, copied) without the stacking's work."""
+    return M.copy() if type(M) is sp.csr_matrix else sp.vstack([M], format="csr")
 
 
 def _as_format(H: Any, dense: bool) -> Any:

@@ -70,6 +70,14 @@ def equality_rows(problem: Problem, J: Any, rows: Array) -> Any:
     return np.vstack(parts)
 
 
+def _rows_times(M: Any, rows: NDArray[np.intp], d: Array) -> Array:
+    """``M[rows] @ d`` (1-D). Of a CSR matrix, the rows of ``M @ d``: each row's sum runs over its stored entries in
+    the same order either way (the same numbers), without building the submatrix."""
+    if type(M) is sp.csr_matrix:
+        return np.asarray(M @ d).ravel()[rows]
+    return np.asarray(M[rows] @ d).ravel()
+
+
 def newton_multipliers(problem: Problem, st: State, qp: QPStep, rows: Array, weight: float,
                        held: Array) -> QPStep:
     """The QP's multipliers with the augmented-Lagrangian term of :func:`~sqp.hessian.convexify` moved back into them.
@@ -87,11 +95,11 @@ def newton_multipliers(problem: Problem, st: State, qp: QPStep, rows: Array, wei
     lam_nl = qp.lam_nl.copy()
     if rows.size:
         kept = np.intersect1d(rows, held, assume_unique=True)
-        lam_nl[kept] -= weight * np.asarray(st.der.J[kept] @ qp.d).ravel()
+        lam_nl[kept] -= weight * _rows_times(st.der.J, kept, qp.d)
     lam_lin = qp.lam_lin.copy()
     eq = problem.linear.eq
     if eq.size:
-        lam_lin[eq] -= weight * np.asarray(problem.A[eq] @ qp.d).ravel()
+        lam_lin[eq] -= weight * _rows_times(problem.A, eq, qp.d)
     # (the constructor, not dataclasses.replace: a third of its cost)
     return QPStep(d=qp.d, lam_nl=lam_nl, lam_lin=lam_lin, z=qp.z, found=qp.found, elastic=qp.elastic, slack=qp.slack,
                   status=qp.status, v_lin=qp.v_lin)

@@ -50,3 +50,28 @@ def test_single_block_stack_is_the_block_unless_shared() -> None:
     E, _, _, _, _ = _stack_rows([LinearisedRows(M=J, lo=every_row.lb, hi=every_row.ub, rows=every_row)], 3, "csr")
     assert E is not J
     np.testing.assert_array_equal(E.toarray(), J.toarray())
+
+
+def test_rows_times_is_the_submatrix_product_bit_for_bit() -> None:
+    from sqp.multipliers import _rows_times
+
+    rng = np.random.default_rng(3)
+    M = sp.random(40, 30, density=0.3, format="csr", random_state=rng)
+    d = rng.standard_normal(30)
+    rows = np.array([1, 4, 5, 17, 39])
+    for kind in (sp.csr_matrix, sp.csc_matrix, lambda m: m.toarray()):
+        got = _rows_times(kind(M), rows, d)
+        want = np.asarray(kind(M)[rows] @ d).ravel()
+        assert got.tobytes() == want.tobytes()
+
+
+def test_sparse_copy_is_a_fresh_csr_copy() -> None:
+    from sqp.iterate import _sparse_copy
+
+    M = _matrix()
+    out = _sparse_copy(M)
+    assert type(out) is sp.csr_matrix and out is not M and not np.shares_memory(out.data, M.data)
+    np.testing.assert_array_equal(out.toarray(), M.toarray())
+    C = _sparse_copy(M.tocsc())
+    assert type(C) is sp.csr_matrix
+    np.testing.assert_array_equal(C.toarray(), M.toarray())

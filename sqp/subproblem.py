@@ -100,7 +100,7 @@ def _stack_rows(parts: list[LinearisedRows], n: int,
             E_list.append(_rows_of(M, r.eq))
             e_list.append(part.lo[r.eq])
         if r.lower.size:
-            G_list.append(-_rows_of(M, r.lower))
+            G_list.append(_rows_of(M, r.lower, negate=True))
         if r.upper.size:
             G_list.append(_rows_of(M, r.upper))
         where.append((n_eq, n_in, n_in + r.lower.size))
@@ -120,14 +120,30 @@ def inequality_bounds(parts: list[LinearisedRows]) -> Array:
                          if h.size])
 
 
-def _rows_of(M: Any, index: NDArray[np.intp]) -> Any:
-    """``M[index]``; a sparse ``M`` itself when ``index`` is all its rows (:func:`_vstack` copies it anyway), a
-    slice of it when ``index`` is a run of consecutive rows (the same matrix, without fancy indexing's work)."""
+def _rows_of(M: Any, index: NDArray[np.intp], negate: bool = False) -> Any:
+    """``M[index]`` (``-M[index]`` when ``negate``); a sparse ``M`` itself when ``index`` is all its rows and
+    ``negate`` is False (:func:`_vstack` copies it anyway), a slice of it when ``index`` is a run of consecutive rows
+    (the same matrix, without fancy indexing's work): of a CSR matrix, built at once from the run's entries
+    (:func:`_csr_run`)."""
     if sp.issparse(M) and index.size == M.shape[0]:
-        return M
+        return -M if negate else M
     if sp.issparse(M) and index.size and int(index[-1]) - int(index[0]) + 1 == index.size:
-        return M[int(index[0]) : int(index[-1]) + 1]
-    return M[index]
+        if type(M) is sp.csr_matrix:
+            return _csr_run(M, int(index[0]), int(index[-1]) + 1, negate)
+        rows = M[int(index[0]) : int(index[-1]) + 1]
+    else:
+        rows = M[index]
+    return -rows if negate else rows
+
+
+def _csr_run(M: sp.csr_matrix, start: int, stop: int, negate: bool) -> sp.csr_matrix:
+    """``M[start:stop]`` (``-M[start:stop]`` when ``negate``) of the CSR matrix ``M``: its entries' arrays copied
+    (negated) in their order, as slicing then negating would give them, with one matrix built instead of two or
+    three."""
+    first, last = int(M.indptr[start]), int(M.indptr[stop])
+    data = -M.data[first:last] if negate else M.data[first:last].copy()
+    return sp.csr_matrix((data, M.indices[first:last].copy(), M.indptr[start : stop + 1] - first),
+                         shape=(stop - start, M.shape[1]))
 
 
 def _concatenate(parts: list[Array]) -> Array:

@@ -75,3 +75,23 @@ def test_sparse_copy_is_a_fresh_csr_copy() -> None:
     C = _sparse_copy(M.tocsc())
     assert type(C) is sp.csr_matrix
     np.testing.assert_array_equal(C.toarray(), M.toarray())
+
+
+def test_rows_of_runs_are_the_slices_bit_for_bit() -> None:
+    from sqp.subproblem import _rows_of
+
+    rng = np.random.default_rng(5)
+    M = sp.random(30, 12, density=0.3, format="csr", random_state=rng)
+    for index in (np.arange(3, 11), np.arange(30), np.array([2, 5, 9]), np.arange(0)):
+        for negate in (False, True):
+            for kind in (sp.csr_matrix, sp.csc_matrix, lambda m: m.toarray()):
+                A = kind(M)
+                want = -A[index] if negate else A[index]
+                got = _rows_of(A, index, negate)
+                assert type(got) is type(want) and got.shape == want.shape
+                if sp.issparse(want):
+                    want, got = sp.csr_matrix(want), sp.csr_matrix(got)
+                    for name in ("data", "indices", "indptr"):
+                        assert getattr(got, name).tobytes() == getattr(want, name).tobytes()
+                else:
+                    assert got.tobytes() == want.tobytes()

@@ -95,3 +95,17 @@ def test_rows_of_runs_are_the_slices_bit_for_bit() -> None:
                         assert getattr(got, name).tobytes() == getattr(want, name).tobytes()
                 else:
                     assert got.tobytes() == want.tobytes()
+
+
+def test_canonical_sums_duplicates_in_a_copy() -> None:
+    from sqp.active_set import _canonical
+
+    M = _matrix()
+    assert _canonical(M) is M
+    D = sp.csr_matrix((np.array([1.0, 2.0, 5.0]), np.array([2, 0, 2]), np.array([0, 3, 3])), shape=(2, 3))
+    before = (D.data.copy(), D.indices.copy(), D.indptr.copy())
+    out = _canonical(D)
+    assert out is not D and out.has_canonical_format
+    np.testing.assert_array_equal(out.toarray(), [[2.0, 0.0, 6.0], [0.0, 0.0, 0.0]])
+    for got, want in zip((D.data, D.indices, D.indptr), before, strict=True):
+        np.testing.assert_array_equal(got, want)

@@ -28,6 +28,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.linalg import lapack
 
+from sqp.compressed import as_csc, as_csr
 from sqp.kkt import inf_norm
 from sqp.qp_call import QP_RESIDUAL_TOL
 
@@ -59,7 +60,7 @@ ACTIVE_SET_TOL = 1e-10
 def interleaved_order(C: Any, n: int) -> NDArray[np.intp]:
     """A permutation of the ``n + m`` KKT unknowns (variables, then the ``m`` rows of ``C``) putting every row
     right after the last variable it involves (an empty row after the first variable), variables in their order."""
-    Cr = sp.csr_matrix(C)
+    Cr = as_csr(C)
     counts = np.diff(Cr.indptr)
     last = np.zeros(Cr.shape[0], dtype=np.int64)
     full = counts > 0
@@ -82,8 +83,7 @@ class _KKTParts:
     sparse matrices (the same band matrix, entry for entry, as from ``vstack((E, G[rows]))``)."""
 
     def __init__(self, B: Any, E: Any, G: Any | None = None) -> None:
-        B = sp.csc_matrix(B)
-        B.sum_duplicates()  # (no-ops on canonical matrices: every entry below is then placed once)
+        B = _canonical(as_csc(B))  # (every entry below is then placed once)
         self.n = B.shape[0]
         self.b_row, self.b_col, self.b_data = B.indices, np.repeat(np.arange(self.n), np.diff(B.indptr)), B.data
         self.e_row, self.e_col, self.e_data, self.e_last = _row_entries(E)
@@ -177,11 +177,20 @@ def _band_layout(size: int, b_row: NDArray[np.intp], b_col: NDArray[np.intp], c_
     return perm, kl, ku, place
 
 
+def _canonical(M: Any) -> Any:
+    """The compressed ``M`` with every entry once, indices sorted: ``M`` itself when it is so already, else a copy
+    with its duplicates summed (never ``M`` changed in place: it may be the caller's matrix)."""
+    if M.has_canonical_format:
+        return M
+    M = M.copy()
+    M.sum_duplicates()
+    return M
+
+
 def _row_entries(M: Any) -> tuple[NDArray[np.intp], NDArray[np.intp], Array, NDArray[np.int64]]:
     """Row, column and value of every entry of ``M`` (canonical CSR order), and each row's last column (0 for an
     empty row: :func:`interleaved_order` puts it after the first variable)."""
-    M = sp.csr_matrix(M)
-    M.sum_duplicates()
+    M = _canonical(as_csr(M))
     counts = np.diff(M.indptr)
     last = np.zeros(M.shape[0], dtype=np.int64)
     full = counts > 0
@@ -196,8 +205,8 @@ def guessed_qp(B: Any, g: Array, E: Any, e: Array, G: Any, h: Array, active: NDA
     definite; qpsolvers' signs: ``B d + g + E^T y + G^T z = 0``, ``z >= 0``) from the rows ``active`` (bool (m_G,))
     guessed active, or None when ``solves`` solves (default :data:`MAX_GUESSES`) do not find it (see the module
     docstring)."""
-    G = sp.csr_matrix(G)
-    E = sp.csr_matrix(E)
+    G = as_csr(G)
+    E = as_csr(E)
     # (a row whose linearisation has no gradient cannot hold a step: held in a guess, it made the KKT matrix
     # singular and sent the QP to a backend — a node row that yields to the crease rows beside a branch's opening,
     # carried active from the step before)

@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 from scipy.linalg import lapack
 
 from sqp import structured
+from sqp.compressed import as_csc
 from sqp.pencil import BandPencil, band_positive_definite, lower_band
 from sqp.structured import SPARSE_GRAM_DENSITY
 
@@ -402,7 +403,7 @@ def _gram(C: Any, is_sparse: bool) -> Any:
         return C.T @ C
     if not sp.issparse(C):
         return None
-    CtC = sp.csc_matrix(C.T @ C)
+    CtC = as_csc(C.T @ C)
     return CtC if CtC.nnz <= SPARSE_GRAM_DENSITY * CtC.shape[0] else None
 
 
@@ -420,7 +421,7 @@ def _sorted(B: Any, is_sparse: bool) -> Any:
     rejects unsorted ones; the factorisation of :func:`_positive_definite` must not be relied on to sort them)."""
     if not is_sparse:
         return B
-    B = sp.csc_matrix(B)
+    B = as_csc(B)
     if not B.has_sorted_indices:
         B.sort_indices()
     return B
@@ -448,7 +449,7 @@ def _positive_definite(B: Any, floor: float = 0.0) -> bool:
     ab = lower_band(B)
     if ab is not None:
         return band_positive_definite(ab, floor)
-    B = sp.csc_matrix(B)
+    B = as_csc(B)
     if not B.has_canonical_format:  # (every entry once)
         B = B.copy()
         B.sum_duplicates()

@@ -10,6 +10,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from sqp.compressed import as_csc
 from sqp.hessian import DENSE_LIMIT, STRUCTURED_MIN
 from sqp.kkt import max_violation
 from sqp.problem import NonlinearBlock, Problem, StartValues, call_user, check_jacobian_shape
@@ -156,7 +157,7 @@ class Evaluator:
         if p.blocks:
             parts = [self._jac(b, x, None if start is None else start.J[i]) for i, b in enumerate(p.blocks)]
             if len(parts) == 1:  # (a copy, as the stacking of several: the user may reuse the array)
-                J = sp.vstack(parts, format="csr") if sp.issparse(parts[0]) else parts[0].copy()
+                J = _sparse_copy(parts[0]) if sp.issparse(parts[0]) else parts[0].copy()
             else:
                 J = sp.vstack(parts, format="csr") if any(sp.issparse(m) for m in parts) else np.vstack(parts)
         else:
@@ -216,7 +217,7 @@ class Evaluator:
             else:
                 W = W - _as_format(Hc, dense)
         if sp.issparse(W):
-            return sp.csc_matrix(W)
+            return as_csc(W)
         return np.asarray(W)
 
     def _hessian(self, name: str, H: Any, n: int) -> Any:
@@ -231,11 +232,17 @@ class Evaluator:
         return H
 
 
+def _sparse_copy(M: Any) -> Any:
+    """A CSR copy of the sparse ``M`` (``sp.vstack([M], format="csr")``): a CSR matrix's own ``copy`` (the same
+    arrays, copied) without the stacking's work."""
+    return M.copy() if type(M) is sp.csr_matrix else sp.vstack([M], format="csr")
+
+
 def _as_format(H: Any, dense: bool) -> Any:
     """``H`` as a float ndarray (``dense``) or a CSC matrix."""
     if dense:
         return H.toarray() if sp.issparse(H) else np.array(H, dtype=float)
-    return sp.csc_matrix(H, dtype=float)
+    return as_csc(H, dtype=float)
 
 
 @dataclass(frozen=True)

@@ -11,6 +11,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from sqp.compressed import as_csr
 from sqp.iterate import Derivatives, State
 from sqp.kkt import inf_norm
 from sqp.problem import Problem
@@ -62,11 +63,19 @@ def equality_rows(problem: Problem, J: Any, rows: Array) -> Any:
         parts.append(problem.A[problem.linear.eq])
     if not parts:
         return None
-    if len(parts) == 1 and not sp.issparse(parts[0]):  # (J[rows] and A[eq] are copies already)
-        return parts[0]
+    if len(parts) == 1 and (not sp.issparse(parts[0]) or type(parts[0]) is sp.csr_matrix):
+        return as_csr(parts[0]) if sp.issparse(parts[0]) else parts[0]  # (J[rows] and A[eq] are copies already)
     if any(sp.issparse(p) for p in parts):
         return sp.vstack(parts, format="csr")
     return np.vstack(parts)
+
+
+def _rows_times(M: Any, rows: NDArray[np.intp], d: Array) -> Array:
+    """``M[rows] @ d`` (1-D). Of a CSR matrix, the rows of ``M @ d``: each row's sum runs over its stored entries in
+    the same order either way (the same numbers), without building the submatrix."""
+    if type(M) is sp.csr_matrix:
+        return np.asarray(M @ d).ravel()[rows]
+    return np.asarray(M[rows] @ d).ravel()
 
 
 def newton_multipliers(problem: Problem, st: State, qp: QPStep, rows: Array, weight: float,
@@ -86,11 +95,11 @@ def newton_multipliers(problem: Problem, st: State, qp: QPStep, rows: Array, wei
     lam_nl = qp.lam_nl.copy()
     if rows.size:
         kept = np.intersect1d(rows, held, assume_unique=True)
-        lam_nl[kept] -= weight * np.asarray(st.der.J[kept] @ qp.d).ravel()
+        lam_nl[kept] -= weight * _rows_times(st.der.J, kept, qp.d)
     lam_lin = qp.lam_lin.copy()
     eq = problem.linear.eq
     if eq.size:
-        lam_lin[eq] -= weight * np.asarray(problem.A[eq] @ qp.d).ravel()
+        lam_lin[eq] -= weight * _rows_times(problem.A, eq, qp.d)
     # (the constructor, not dataclasses.replace: a third of its cost)
     return QPStep(d=qp.d, lam_nl=lam_nl, lam_lin=lam_lin, z=qp.z, found=qp.found, elastic=qp.elastic, slack=qp.slack,
                   status=qp.status, v_lin=qp.v_lin)

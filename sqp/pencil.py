@@ -14,9 +14,10 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.linalg import lapack
+
+from sqp.compressed import as_csc
 
 Array = NDArray[np.float64]
 
@@ -29,7 +30,7 @@ BANDED_CHOLESKY_MAX = 32
 def _lower_entries(M: Any) -> tuple[NDArray[np.intp], NDArray[np.intp], Array, int]:
     """Offset below the diagonal, column and value of every stored entry on or below the diagonal of the square
     sparse ``M`` (duplicates summed), and ``max |i - j|`` over all its stored entries."""
-    M = sp.csc_matrix(M)
+    M = as_csc(M)
     if not M.has_canonical_format:  # (every entry once: the band is filled by assignment)
         M = M.copy()
         M.sum_duplicates()

@@ -16,6 +16,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from sqp.compressed import as_csr
 from sqp.derivatives import FiniteDifferences
 
 Array = NDArray[np.float64]
@@ -367,4 +368,4 @@ def check_jacobian_shape(block: NonlinearBlock, J: Any, n: int, where: str) -> A
     if shape != (block.size, n):
         raise ValueError(f"{block.part('jac')} returned shape {shape} at {where}; expected ({block.size}, {n}): one "
                          "row per value of its fun, one column per variable.")
-    return sp.csr_matrix(J) if sp.issparse(J) else J
+    return as_csr(J) if sp.issparse(J) else J

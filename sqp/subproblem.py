@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 
 from sqp.active_set import FIRST_GUESSES, MAX_GUESSES, RESCUE_GUESSES, corrected_guess, guessed_qp
 from sqp.backends import elastic_backends
+from sqp.compressed import as_csr
 from sqp.kkt import inf_norm
 from sqp.problem import Rows
 from sqp.qp_call import QP_RESIDUAL_TOL, Backends, solve_qp
@@ -99,14 +100,15 @@ def _stack_rows(parts: list[LinearisedRows], n: int,
             E_list.append(_rows_of(M, r.eq))
             e_list.append(part.lo[r.eq])
         if r.lower.size:
-            G_list.append(-_rows_of(M, r.lower))
+            G_list.append(_rows_of(M, r.lower, negate=True))
         if r.upper.size:
             G_list.append(_rows_of(M, r.upper))
         where.append((n_eq, n_in, n_in + r.lower.size))
         n_eq += r.eq.size
         n_in += r.lower.size + r.upper.size
-    E = _vstack(E_list, n, compressed)
-    G = _vstack(G_list, n, compressed)
+    inputs = {id(part.M) for part in parts}  # (blocks that are these are not the caller's to keep: copy them)
+    E = _vstack(E_list, n, compressed, inputs)
+    G = _vstack(G_list, n, compressed, inputs)
     e = _concatenate(e_list)
     return E, e, G, inequality_bounds(parts), where
 
@@ -118,14 +120,30 @@ def inequality_bounds(parts: list[LinearisedRows]) -> Array:
                          if h.size])
 
 
-def _rows_of(M: Any, index: NDArray[np.intp]) -> Any:
-    """``M[index]``; a sparse ``M`` itself when ``index`` is all its rows (:func:`_vstack` copies it anyway), a
-    slice of it when ``index`` is a run of consecutive rows (the same matrix, without fancy indexing's work)."""
+def _rows_of(M: Any, index: NDArray[np.intp], negate: bool = False) -> Any:
+    """``M[index]`` (``-M[index]`` when ``negate``); a sparse ``M`` itself when ``index`` is all its rows and
+    ``negate`` is False (:func:`_vstack` copies it anyway), a slice of it when ``index`` is a run of consecutive rows
+    (the same matrix, without fancy indexing's work): of a CSR matrix, built at once from the run's entries
+    (:func:`_csr_run`)."""
     if sp.issparse(M) and index.size == M.shape[0]:
-        return M
+        return -M if negate else M
     if sp.issparse(M) and index.size and int(index[-1]) - int(index[0]) + 1 == index.size:
-        return M[int(index[0]) : int(index[-1]) + 1]
-    return M[index]
+        if type(M) is sp.csr_matrix:
+            return _csr_run(M, int(index[0]), int(index[-1]) + 1, negate)
+        rows = M[int(index[0]) : int(index[-1]) + 1]
+    else:
+        rows = M[index]
+    return -rows if negate else rows
+
+
+def _csr_run(M: sp.csr_matrix, start: int, stop: int, negate: bool) -> sp.csr_matrix:
+    """``M[start:stop]`` (``-M[start:stop]`` when ``negate``) of the CSR matrix ``M``: its entries' arrays copied
+    (negated) in their order, as slicing then negating would give them, with one matrix built instead of two or
+    three."""
+    first, last = int(M.indptr[start]), int(M.indptr[stop])
+    data = -M.data[first:last] if negate else M.data[first:last].copy()
+    return sp.csr_matrix((data, M.indices[first:last].copy(), M.indptr[start : stop + 1] - first),
+                         shape=(stop - start, M.shape[1]))
 
 
 def _concatenate(parts: list[Array]) -> Array:
@@ -133,10 +151,17 @@ def _concatenate(parts: list[Array]) -> Array:
     return parts[0] if len(parts) == 1 else np.concatenate(parts) if parts else np.zeros(0)
 
 
-def _vstack(blocks: list[Any], n: int, compressed: str = "csc") -> Any:
-    """The nonempty blocks stacked (a single one as it is); ``compressed`` (CSC or CSR) when any is sparse."""
+def _vstack(blocks: list[Any], n: int, compressed: str = "csc", shared: set[int] | frozenset[int] = frozenset()) -> Any:
+    """The nonempty blocks stacked (a single one as it is); ``compressed`` (CSC or CSR) when any is sparse.
+
+    A single sparse block already a CSR matrix, when CSR is asked, is returned itself (the same arrays as
+    ``sp.vstack`` would copy) unless it is one of the matrices ``shared`` (their ``id``): those belong to the caller
+    and are copied, so that the result never aliases them."""
     if not blocks:
         return np.zeros((0, n))
+    if (len(blocks) == 1 and compressed == "csr" and type(blocks[0]) is sp.csr_matrix
+            and id(blocks[0]) not in shared):
+        return as_csr(blocks[0])
     if any(sp.issparse(b) for b in blocks):
         return sp.vstack(blocks, format=compressed)
     return blocks[0] if len(blocks) == 1 else np.vstack(blocks)

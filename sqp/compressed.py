@@ -41,18 +41,6 @@ def as_csr(M: Any, dtype: Any = None) -> Any:
 
 
 def as_csc(M: Any, dtype: Any = None) -> Any:
-    """``M`` as a CSC matrix (``sp.csc_matrix(M, dtype=dtype)``): ``M`` itself when it is one of that dtype already.
-
-    Parameters
-    ----------
-    M : sparse matrix or array_like
-        The matrix.
-    dtype : dtype, optional
-        The entries' type (default: ``M``'s).
-
-    Returns
-    -------
-    scipy.sparse.csc_matrix
-        ``M`` itself or a new matrix (see :func:`as_csr`).
-    """
+    """``M`` as a CSC matrix (``sp.csc_matrix(M, dtype=dtype)``): ``M`` itself when it is one of that dtype already
+    (parameters and result as :func:`as_csr`'s)."""
     return M if _settled(M, sp.csc_matrix, dtype) else sp.csc_matrix(M, dtype=dtype)

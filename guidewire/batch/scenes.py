@@ -27,8 +27,9 @@ import inspect
 import multiprocessing
 import signal
 import sys
+import threading
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
+from concurrent.futures import Executor, Future, InvalidStateError, ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -280,12 +281,31 @@ def _terminate(pool: Executor) -> None:
     """Stop a default pool's workers now, mid-scene, and reap them: an interrupted batch leaves no process behind
     (its fork server and resource tracker end with this process, when their pipes close)."""
     workers = list((getattr(pool, "_processes", None) or {}).values())  # (shutdown forgets them: read first)
+    _quiet_manager(pool)
     pool.shutdown(wait=False, cancel_futures=True)
     for worker in workers:
         if worker.is_alive():
             worker.terminate()
     for worker in workers:
         worker.join(timeout=5.0)
+
+
+def _quiet_manager(pool: Executor) -> None:
+    """Keep the pool's manager thread from printing a traceback as it notices its workers gone: it then sets an
+    exception on every task still pending, and CPython's executor (3.11) raises ``InvalidStateError`` on a task
+    cancelled meanwhile (a race with the cancels above: one SIGTERM in a few hundred). That one error of that thread
+    is dropped; any other still reaches the previous hook."""
+    manager = getattr(pool, "_executor_manager_thread", None)
+    if manager is None:
+        return
+    previous = threading.excepthook
+
+    def hook(args: Any) -> None:
+        if args.thread is manager and issubclass(args.exc_type, InvalidStateError):
+            return
+        previous(args)
+
+    threading.excepthook = hook
 
 
 def _outcome(future: Future[Any], scenes: list[Scene]) -> list[BatchResult]:

@@ -107,3 +107,41 @@ def test_the_batch_command_names_each_scene_without_a_solution_as_it_arrives(tmp
     assert done.returncode == 0, done.stderr
     flagged = [line for line in done.stderr.splitlines() if "no solution" in line]
     assert len(flagged) == 1 and flagged[0].startswith("table5: no solution (solve):") and "infeasible" in flagged[0]
+
+
+def test_the_pools_manager_thread_drops_only_its_invalid_state_error():
+    """The race behind a rare traceback on SIGTERM (CPython's executor setting an exception on a task cancelled
+    meanwhile): ``InvalidStateError`` from the pool's manager thread is dropped, any other error of that thread and
+    any error of another thread still reach the previous hook."""
+    import threading
+    from concurrent.futures import InvalidStateError
+
+    from guidewire.batch.scenes import _quiet_manager
+
+    seen = []
+    saved = threading.excepthook
+    threading.excepthook = lambda args: seen.append((args.thread.name, args.exc_type))
+    try:
+        def raising(exc):
+            def run():
+                raise exc
+            return run
+
+        manager = threading.Thread(target=raising(InvalidStateError("cancelled")), name="manager")
+
+        class Pool:
+            _executor_manager_thread = manager
+
+        _quiet_manager(Pool())
+        manager.start()
+        manager.join()
+        other = threading.Thread(target=raising(InvalidStateError("x")), name="other")
+        other.start()
+        other.join()
+        Pool._executor_manager_thread = again = threading.Thread(target=raising(ValueError("y")), name="again")
+        _quiet_manager(Pool())
+        again.start()
+        again.join()
+    finally:
+        threading.excepthook = saved
+    assert seen == [("other", InvalidStateError), ("again", ValueError)]

@@ -170,3 +170,33 @@ def test_a_pickled_vessel_finds_the_same_creases(arch):
     assert len(again.creases) == len(arch.creases)
     for a, b in zip(arch.creases, again.creases, strict=True):
         assert np.array_equal(a.points, b.points)
+
+
+@pytest.mark.parametrize("length", [230.0, 250.0, 270.0])
+def test_cold_solves_across_the_openings_keep_every_bar_off_the_creases(length):
+    """stEVE's J wire solved cold in the type I arch where it crosses the branches' openings: it converges, every
+    bar keeps its radius from every crease (its nearest pair with the crease, not only the places the rows hold),
+    every node is in the lumen, and the forces and moments balance."""
+    from pathlib import Path
+
+    from guidewire.solve3d.file import load_scene
+    from guidewire.solve3d.insert import scene_at
+    from guidewire.solve3d.solve import solve3d
+
+    root = Path(__file__).resolve().parents[2]
+    scene = load_scene(root / "guidewire" / "scenes" / "vessels3d" / "aortic_arch_I.toml")
+    target = scene_at(scene, length, 0.0, scene.wire.bars / scene.wire.length)
+    sol = solve3d(target)
+    assert sol.success
+    middle = np.cumsum(sol.lengths) - 0.5 * sol.lengths
+    radius = 0.5 * target.wire.properties_at(middle).diameter
+    a, b = sol.nodes[:-1], sol.nodes[1:]
+    for crease in scene.vessel.creases:
+        tau, phi = crease._segments(a, b)
+        gap = np.linalg.norm(a + tau[:, None] * (b - a) - crease.spline(phi), axis=1)
+        assert np.min(gap - radius) >= -1e-6
+    node_radius = np.maximum(radius, np.append(radius[1:], radius[-1]))
+    assert scene.vessel.lumen_rows(sol.nodes[1:], node_radius)[0].min() >= -1e-6
+    force, moment = sol.balance()
+    total = sum(f.magnitude for f in sol.forces)
+    assert force <= 1e-6 * max(total, 1.0) and moment <= 1e-6 * 300.0 * max(total, 1.0)

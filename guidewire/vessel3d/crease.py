@@ -77,19 +77,17 @@ cone argument is local (the walls curve away over a radius)."""
 class CreaseMinima:
     """Where a crease comes nearest a wire (:meth:`Crease.minima`): for each, the bar ``k`` (from node ``k`` to
     node ``k + 1``, the clamp node 0) and the place ``τ`` on it (1 at a node: node ``k + 1`` itself), the row
-    ``g = |P − X| − r``, its gradient (6,) over the bar's two nodes and Hessian (6, 6), and the crease point ``X``."""
+    ``g = |P − X| − r`` and its gradient (6,) over the bar's two nodes and Hessian (6, 6)."""
 
     bar: NDArray[np.intp]
     fraction: FloatArray
     value: FloatArray
     gradient: FloatArray
     hessian: FloatArray
-    point: FloatArray
 
     @classmethod
     def empty(cls) -> CreaseMinima:
-        return cls(np.zeros(0, dtype=np.intp), np.zeros(0), np.zeros(0), np.zeros((0, 6)), np.zeros((0, 6, 6)),
-                   np.zeros((0, 3)))
+        return cls(np.zeros(0, dtype=np.intp), np.zeros(0), np.zeros(0), np.zeros((0, 6)), np.zeros((0, 6, 6)))
 
     @classmethod
     def join(cls, parts: Sequence[CreaseMinima]) -> CreaseMinima:
@@ -101,19 +99,18 @@ class CreaseMinima:
         return CreaseMinima(*(getattr(self, f)[index] for f in _FIELDS))
 
 
-_FIELDS = ("bar", "fraction", "value", "gradient", "hessian", "point")
+_FIELDS = ("bar", "fraction", "value", "gradient", "hessian")
 
 
 @dataclass(frozen=True)
 class CreaseRows:
-    """The rows of the points a crease holds: their indices into the asked points, ``g`` (m,), ``∇g`` (m, 3),
-    ``∇²g`` (m, 3, 3), and the crease points ``X`` (m, 3)."""
+    """The rows of the points a crease holds: their indices into the asked points, ``g`` (m,), ``∇g`` (m, 3) and
+    ``∇²g`` (m, 3, 3)."""
 
     index: NDArray[np.intp]
     value: FloatArray
     gradient: FloatArray
     hessian: FloatArray
-    point: FloatArray
 
 
 class Crease:
@@ -163,8 +160,7 @@ class Crease:
     def rows(self, p: FloatArray, r: FloatArray) -> CreaseRows:
         """The rows ``g_K = |p − X| − r`` of the points ``p`` (m, 3) of wire radii ``r`` (m,) that lie in this
         crease's cone within its reach (see the module docstring); the others are left out."""
-        empty = CreaseRows(np.zeros(0, dtype=np.intp), np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3, 3)),
-                           np.zeros((0, 3)))
+        empty = CreaseRows(np.zeros(0, dtype=np.intp), np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3, 3)))
         outside = np.maximum(np.maximum(self.box[0] - p, p - self.box[1]), 0.0)
         near = np.flatnonzero(np.einsum("ij,ij->i", outside, outside) <= self.reach**2)
         if not near.size:
@@ -187,8 +183,7 @@ class Crease:
         w, d, d1, d2 = w[i], d[i], d1[i], d2[i]
         unit = w / d[:, None]
         hess = _point_hessian(unit, d, d1, d2)
-        return CreaseRows(near[i], d - r[near[i]], unit, hess, x[i])
-
+        return CreaseRows(near[i], d - r[near[i]], unit, hess)
 
     def _segments(self, a: FloatArray, b: FloatArray) -> tuple[FloatArray, ...]:
         """The nearest pair of each segment from ``a`` to ``b`` (m, 3 each) and the crease: ``τ`` in ``[0, 1]`` and
@@ -297,7 +292,7 @@ class Crease:
         inv /= det[:, None, None]
         mixed = np.stack((f_xt, f_xs), axis=2)  # (m, 6, 2)
         hess = f_xx - np.einsum("mia,mab,mjb->mij", mixed, inv, mixed)
-        return CreaseMinima(bar[i], tau, dist - r[i], grad, hess, x[i])
+        return CreaseMinima(bar[i], tau, dist - r[i], grad, hess)
 
     def _node_minima(self, node: NDArray[np.intp], p: FloatArray, sigma: FloatArray, r: FloatArray) -> CreaseMinima:
         x, k1, k2 = self.spline(sigma), self.spline(sigma, 1), self.spline(sigma, 2)
@@ -313,7 +308,7 @@ class Crease:
         grad[:, 3:] = unit
         hess = np.zeros((m, 6, 6))
         hess[:, 3:, 3:] = _point_hessian(unit, dist, k1, k2)
-        return CreaseMinima(node[i] - 1, np.ones(m), dist - r[i], grad, hess, x[i])
+        return CreaseMinima(node[i] - 1, np.ones(m), dist - r[i], grad, hess)
 
     def _cone_sides(self, x: FloatArray, k1: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """At crease points ``x`` with tangents ``k1``: the directions ``e_j``, ``e_o`` in which the two walls leave

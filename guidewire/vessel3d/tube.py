@@ -2,8 +2,10 @@
 
 The centreline ``c(u)`` is the cubic spline (not-a-knot, as the planar :mod:`guidewire.vessel_curves`) through the
 points in chord length ``u`` (≈ arc length); the radius ``R(u)`` is monotone cubic (PCHIP, no overshoot) in the same
-``u``. Past the last point the tube continues straight along its last tangent with its last radius for
-:data:`TAIL_REACH` mm (or :data:`TAIL_REACH_RADII` radii), so a tip pushed past the end is not stopped.
+``u``. Past the last point an outlet continues straight along its last tangent with its last radius for
+:data:`TAIL_REACH` mm (or :data:`TAIL_REACH_RADII` radii), so a tip pushed past the end is not stopped; a tube built
+with ``tail=False`` (a trunk whose end is a bifurcation: the lumen goes on in its branches, not straight on) ends in
+its last ball, as it begins in its first.
 
 The lumen is the union of the balls ``|p − c(u)| ≤ R(u)``; a wire node of radius ``r`` must lie in the union of the
 shrunk balls, ``g(p) = max_u h(p, u) ≥ 0`` with (mm)::
@@ -22,7 +24,7 @@ derivatives::
     h_u  = a'/2 + v·c' / a + |v|² a' / (2a²),
     h_uu = a''/2 + (v·c'' − |c'|²) / a − 2 (v·c') a' / a² + |v|² a'' / (2a²) − |v|² a'² / a³     (< 0 at a maximum)
 
-(a ball's ``h_pp`` where ``u*`` sits at the entrance, ``u = 0``).
+(a ball's ``h_pp`` where ``u*`` sits at either cap: the entrance ``u = 0`` or the end of the search range).
 """
 
 from __future__ import annotations
@@ -58,8 +60,8 @@ MIN_GAP = 1e-3
 
 @dataclass(frozen=True)
 class Closest:
-    """Per point: ``u*``, the centre ``c``, ``c'``, ``c''`` (3 each), ``R, R', R''`` and whether ``u*`` is at the
-    entrance (a ball, not the tube's side)."""
+    """Per point: ``u*``, the centre ``c``, ``c'``, ``c''`` (3 each), ``R, R', R''`` and whether ``u*`` is at a
+    cap, the entrance or the end of the search range (a ball there, not the tube's side)."""
 
     u: FloatArray
     centre: FloatArray
@@ -68,13 +70,14 @@ class Closest:
     radius: FloatArray
     radius_d1: FloatArray
     radius_d2: FloatArray
-    at_entrance: NDArray[np.bool_]
+    at_cap: NDArray[np.bool_]
 
 
 class Tube:
-    """A tube around ``points`` (m, 3) with ``radius`` (one value or one per point); see the module docstring."""
+    """A tube around ``points`` (m, 3) with ``radius`` (one value or one per point), continued straight past its
+    end if ``tail`` (an outlet) or closed by its last ball (a bifurcation); see the module docstring."""
 
-    def __init__(self, points: FloatArray, radius: FloatArray) -> None:
+    def __init__(self, points: FloatArray, radius: FloatArray, tail: bool = True) -> None:
         points = np.asarray(points, dtype=float)
         radius = np.broadcast_to(np.asarray(radius, dtype=float), (len(points),)).copy()
         chord = np.linalg.norm(np.diff(points, axis=0), axis=1)
@@ -100,7 +103,7 @@ class Tube:
         self.tail_point = tail_point[0]
         self.tail_tangent = tail_d1[0] / np.linalg.norm(tail_d1[0])
         self.tail_radius = float(radius[-1])
-        self.reach = max(TAIL_REACH, TAIL_REACH_RADII * self.tail_radius)
+        self.reach = max(TAIL_REACH, TAIL_REACH_RADII * self.tail_radius) if tail else 0.0
         self.top = self.end + self.reach
         spacing = min(SAMPLE_SPACING, 0.25 * float(radius.min()))
         self.u = np.linspace(0.0, self.top, max(2, int(np.ceil(self.top / spacing)) + 1))
@@ -143,7 +146,7 @@ class Tube:
                 r, r1, r2 = np.full(u.size, self.radius0), np.zeros(u.size), np.zeros(u.size)
             else:
                 r, r1, r2 = value[:, 3], first[:, 3], second[:, 3]
-            return Closest(u, value[:, :3], first[:, :3], second[:, :3], r, r1, r2, u <= 0.0)
+            return Closest(u, value[:, :3], first[:, :3], second[:, :3], r, r1, r2, (u <= 0.0) | (u >= self.top))
         ui = np.where(inside, u, self.end)
         value, first, second = self._pieces(ui)
         past = (u - self.end)[:, None]
@@ -156,7 +159,7 @@ class Tube:
             r = np.where(inside, value[:, 3], self.tail_radius)
             r1 = np.where(inside, first[:, 3], 0.0)
             r2 = np.where(inside, second[:, 3], 0.0)
-        return Closest(u, c, d1, d2, r, r1, r2, u <= 0.0)
+        return Closest(u, c, d1, d2, r, r1, r2, (u <= 0.0) | (u >= self.top))
 
     # -- the lumen row -------------------------------------------------------------------------------------------
     def closest(self, p: FloatArray, r: FloatArray) -> Closest:
@@ -189,7 +192,7 @@ class Tube:
         hpu = e.d1 / a[:, None] + v * (parts.a1 / a**2)[:, None]
         huu = np.minimum(parts.huu, -1e-12)
         hess = hpp - hpu[:, :, None] * hpu[:, None, :] / huu[:, None, None]
-        hess = np.where(e.at_entrance[:, None, None], hpp, hess)
+        hess = np.where(e.at_cap[:, None, None], hpp, hess)
         return g, grad, hess, e
 
     def row_bound(self, p: FloatArray, r: FloatArray, floor: FloatArray | None = None) -> FloatArray:
@@ -209,13 +212,13 @@ class Tube:
 
     def path(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Points and unit tangents at chord parameters ``s`` (≈ arc length from the entrance; straight past the
-        end, and before the entrance along the first tangent)."""
+        end without limit, whether the lumen goes on there or not, and before the entrance along the first tangent):
+        a guide for a wire's start, not the lumen."""
         s = np.asarray(s, dtype=float)
-        e = self.evaluate(np.clip(s, 0.0, None))
+        e = self.evaluate(np.clip(s, 0.0, self.end))
         t = e.d1 / np.linalg.norm(e.d1, axis=1, keepdims=True)
-        before = s < 0.0
-        c = np.where(before[:, None], e.centre + s[:, None] * t, e.centre)
-        return c, t
+        offset = np.where(s < 0.0, s, np.maximum(s - self.end, 0.0))
+        return e.centre + offset[:, None] * t, t
 
 
 def _ball_bound(low: FloatArray, big_a: FloatArray) -> FloatArray:

@@ -1,0 +1,119 @@
+"""A trunk that ends in a bifurcation: the lumen goes on in its branches, not straight on past the trunk's end.
+
+The trunk's tube ends in its last ball (as every tube begins in its first): a point straight past the end and
+outside both branches is outside the lumen, the row there is that ball's (its derivatives checked against central
+differences), an outlet keeps its straight continuation, and a wire pushed along the trunk turns into a branch."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from guidewire import Wire
+from guidewire.solve3d import Scene3D, solve3d
+from guidewire.vessel3d import Vessel3D
+from guidewire.vessel3d.arch import ARCH_TYPES, aortic_arch
+
+
+def _y(angle_deg: float, trunk: float = 40.0, arm: float = 40.0, radius: float = 3.0, tilt: float = 0.0) -> Vessel3D:
+    """A straight trunk along ``+z`` (radius 3.2 mm) ending at ``(0, 0, trunk)`` where two straight arms of
+    ``radius`` leave at ``±angle`` in a plane turned by ``tilt`` about the axis."""
+    z = np.linspace(0.0, trunk, 21)
+    main = np.column_stack((np.zeros_like(z), np.zeros_like(z), z))
+    end = main[-1]
+    s = np.linspace(0.0, arm, 21)
+    arms = []
+    for sign in (1.0, -1.0):
+        a = math.radians(sign * angle_deg)
+        d = np.array([math.sin(a) * math.cos(tilt), math.sin(a) * math.sin(tilt), math.cos(a)])
+        arms.append((end + s[:, None] * d, radius))
+    return Vessel3D.from_centreline(main, 3.2, arms)
+
+
+@pytest.mark.parametrize("angle", [25.0, 40.0, 60.0])
+@pytest.mark.parametrize("tilt", [0.0, 1.1])
+def test_a_trunk_ending_in_a_bifurcation_has_no_lumen_straight_past_its_end(angle, tilt):
+    """Points on the trunk's axis past its end: inside while in its last ball or in an arm, outside beyond — the
+    carina (between the arms) is wall. Before, the trunk went on straight for 50 mm, through the carina."""
+    vessel = _y(angle, tilt=tilt)
+    trunk, left, right = vessel.tubes
+    assert trunk.reach == 0.0 and left.reach > 0.0 and right.reach > 0.0
+    past = np.linspace(0.5, 30.0, 60)
+    points = np.column_stack((np.zeros_like(past), np.zeros_like(past), 40.0 + past))
+    clearance, _ = vessel.clearance(points)
+    # on the axis at height z above the end the arms' walls are at distance (z sin θ - 3 ...) : the point leaves
+    # both arms where z sin(angle) exceeds the arm's radius (as the arms' axes part), and the trunk's last ball
+    # at z = 3.2
+    arm_leaves = 3.0 / math.sin(math.radians(angle))
+    inside = past < max(3.2, arm_leaves) - 1e-6
+    outside = past > max(3.2, arm_leaves) + 1e-6
+    assert np.all(clearance[inside] > 0.0)
+    assert np.all(clearance[outside] < 0.0)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_end_balls_row_matches_central_differences(seed):
+    """Points just past the trunk's end, off the arms: the row is the end ball's (its closest ``u`` is the end), its
+    gradient and Hessian (the ball's ``−I/a``) against central differences (step 1e-5 mm, errors ~1e-10)."""
+    vessel = _y(70.0)
+    trunk = vessel.tubes[0]
+    rng = np.random.default_rng(seed)
+    direction = rng.normal(size=(10, 3))
+    direction[:, 2] = np.abs(direction[:, 2]) + 1.0  # (ahead of the end's plane)
+    direction /= np.linalg.norm(direction, axis=1, keepdims=True)
+    p = np.array([0.0, 0.0, 40.0]) + rng.uniform(0.2, 2.5, 10)[:, None] * direction
+    r = np.full(len(p), 0.2)
+    g, grad, hess, e = trunk.rows(p, r)
+    assert np.all(e.u == trunk.end) and np.all(e.at_cap)
+    h = 1e-5
+    for i in range(3):
+        step = np.zeros(3)
+        step[i] = h
+        gp, dp, _, _ = trunk.rows(p + step, r)
+        gm, dm, _, _ = trunk.rows(p - step, r)
+        assert np.allclose((gp - gm) / (2 * h), grad[:, i], rtol=0, atol=1e-8)
+        assert np.allclose((dp - dm) / (2 * h), hess[:, :, i], rtol=0, atol=1e-6)
+    distance = np.linalg.norm(p - [0.0, 0.0, 40.0], axis=1)
+    a = 3.2 - 0.2
+    assert np.allclose(g, (a * a - distance**2) / (2 * a), rtol=0, atol=1e-12)
+
+
+def test_an_outlet_and_a_side_branch_keep_the_straight_continuation():
+    """A branch leaving the trunk's side (not at its end) leaves the trunk an outlet: it goes on past its end."""
+    z = np.linspace(0.0, 60.0, 31)
+    main = np.column_stack((np.zeros_like(z), np.zeros_like(z), z))
+    s = np.linspace(0.0, 30.0, 16)
+    side = np.array([0.0, 0.0, 30.0]) + s[:, None] * np.array([math.sin(0.6), 0.0, math.cos(0.6)])
+    vessel = Vessel3D.from_centreline(main, 3.0, [(side, 2.0)])
+    assert vessel.tubes[0].reach >= 50.0 and vessel.tubes[1].reach >= 50.0
+    clearance, _ = vessel.clearance(np.array([[0.0, 0.0, 60.0 + d] for d in (5.0, 20.0, 45.0)]))
+    assert np.all(clearance > 2.9)
+
+
+@pytest.mark.parametrize("arch_type", ARCH_TYPES)
+def test_the_arch_trunks_end_in_their_branches(arch_type):
+    """In stEVE's arches exactly the trunks that branches leave from at their end are closed there."""
+    from guidewire.vessel3d.arch import _LAYOUT
+
+    vessel = aortic_arch(arch_type)
+    names = vessel.tube_names
+    parents = {row[2] for row in _LAYOUT["Va" if arch_type == "V" else arch_type] if row[3] == "end"}
+    for name, tube in zip(names, vessel.tubes, strict=True):
+        assert (tube.reach == 0.0) == (name in parents), name
+
+
+@pytest.mark.parametrize("length", [60.0, 75.0])
+def test_a_wire_pushed_along_the_trunk_turns_into_an_arm(length):
+    """A wire longer than the trunk, solved cold, lies in one arm: every node in the lumen, the tip in an arm (not
+    past the trunk's end on its axis, where the old continuation let it go straight)."""
+    vessel = _y(35.0, tilt=0.3)
+    wire = Wire(length=length, bars=int(length), youngs_modulus=60000.0, diameter=0.36)
+    sol = solve3d(Scene3D.in_vessel(wire, vessel))
+    assert sol.success, sol.message
+    clearance, _ = vessel.clearance(sol.nodes, 0.18)
+    assert clearance.min() > -1e-6
+    tip = vessel.tube_of(sol.nodes[-1:])[0]
+    assert tip in (1, 2)
+    assert math.hypot(sol.nodes[-1, 0], sol.nodes[-1, 1]) > 3.0

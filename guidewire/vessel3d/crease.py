@@ -24,9 +24,15 @@ the creases': exact at contact, and a node touching a crease is pushed straight 
 Construction. Around each branch ``j`` (its wall at angle ``φ`` about its axis, the envelope of its balls), the first
 ``u`` at which the wall leaves the other tubes (``max_{i≠j} g_i = 0`` with ``r = 0``) is bracketed on a grid and
 found by a bracketed root search, for :data:`ANGLES` angles; the crease is the periodic cubic spline through these
-points in ``φ`` (on both walls to ≤ 6e-7 mm on the shipped arches). Only a branch that leaves the side wall of one
-other tube has one: where a crease would meet a third wall (a bifurcation at a branch's end, as stEVE's
-brachiocephalic trunk's) it has corners a spline would round off, and those nodes keep the tubes' rows.
+points in ``φ`` (on both walls to ≤ 6e-7 mm on the shipped arches). A branch that leaves the side wall of one tube
+has one such closed curve. At a bifurcation where a trunk ends in two branches (stEVE's brachiocephalic trunk in the
+right subclavian and common carotid arteries; the trunk ends in its last ball, :mod:`guidewire.vessel3d.tube`) each
+branch's crease meets two walls, the trunk's and its sibling's, in two arcs that meet at corners where the three
+walls meet: each corner is found by Newton's method on the branch wall's ``(u, φ)`` (on all three walls to 1e-14
+mm), each arc is a not-a-knot cubic spline through its knots and its two corners (on its walls to 4e-5 mm on the
+type I arch), the crease their piecewise cubic. The carina — the arc along both siblings' walls — appears in both
+siblings' creases; the later sibling's holds it, the other's arc has no rows. A point whose nearest crease point
+is a corner (three walls near) keeps the tubes' rows.
 
 A wire's rows (:meth:`Crease.minima`). A crease holds a wire where it comes nearest it: inside a bar — the nearest
 pair of the segment ``P(τ) = (1 − τ) a + τ b`` and the crease, ``g = |P − X| − r`` with gradient ``(1 − τ) ŵ``,
@@ -45,7 +51,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.interpolate import CubicSpline
+from scipy.interpolate import CubicSpline, PPoly
 from scipy.spatial import cKDTree
 
 from .tube import Tube
@@ -61,6 +67,9 @@ SCAN_STEP = 0.1
 ROOT_STEPS = 40
 """Most steps of the bracketed root search (Illinois) of each crease point along the branch; it stops once every
 point's row is within 1e-14 of the largest radius of zero, or its bracket within 1e-13 of the grid step."""
+
+CORNER_STEPS = 30
+"""Most Newton steps of a corner's search (where three walls meet; quadratic from the middle of two knots)."""
 
 NEWTON_STEPS = 8
 """Newton steps on a crease's parameter from the nearest sample (quadratic from within a sample spacing)."""
@@ -114,25 +123,44 @@ class CreaseRows:
 
 
 class Crease:
-    """The crease where the wall of tube ``branch`` meets the wall of tube ``other``: a periodic cubic spline
-    ``K(φ)`` over ``[lo, hi]`` through ``points`` at angles ``phi`` (see the module docstring)."""
+    """The crease where the wall of tube ``branch`` leaves the other tubes: a closed curve ``K(φ)`` over
+    ``[lo, hi]`` (one period of the angle about the branch's axis), one smooth arc per tube it meets (``others``),
+    the arcs meeting at :attr:`corners` (see the module docstring). ``spline`` is a periodic cubic spline (one
+    arc) or a piecewise cubic whose breaks include the corners; an arc not ``owned`` (another branch's crease holds
+    the same curve) has no rows."""
 
-    def __init__(self, branch: int, other: int, phi: FloatArray, points: FloatArray, tubes: Sequence[Tube]) -> None:
-        self.branch, self.other = branch, other
-        knots = np.append(phi, phi[0] + 2.0 * np.pi)
-        self.spline = CubicSpline(knots, np.vstack((points, points[:1])), bc_type="periodic")
-        self.lo, self.hi = float(self.spline.x[0]), float(self.spline.x[-1])
-        count = SAMPLES_PER_KNOT * (len(self.spline.x) - 1) + 1
-        self.sigma = np.linspace(self.lo, self.hi, count)
+    def __init__(self, branch: int, spline: PPoly, others: Sequence[int], owned: Sequence[bool],
+                 tubes: Sequence[Tube], corners: FloatArray | None = None) -> None:
+        self.branch, self.others, self.owned = branch, tuple(others), tuple(owned)
+        self.other = self.others[0]
+        self.spline = spline
+        self.lo, self.hi = float(spline.x[0]), float(spline.x[-1])
+        self.corners = np.zeros(0) if corners is None else np.asarray(corners, dtype=float)
+        count = SAMPLES_PER_KNOT * (len(spline.x) - 1) + 1
+        if self.corners.size:  # (knots no longer evenly spaced: the samples evenly within each interval)
+            step = np.diff(spline.x)[:, None] * (np.arange(SAMPLES_PER_KNOT) / SAMPLES_PER_KNOT)[None, :]
+            self.sigma = np.append((spline.x[:-1, None] + step).ravel(), spline.x[-1])
+        else:
+            self.sigma = np.linspace(self.lo, self.hi, count)
         self.samples = self.spline(self.sigma)
         self.tree = cKDTree(self.samples)
-        self.spacing = float(self.sigma[1] - self.sigma[0])
-        self._tubes = (tubes[branch], tubes[other])
+        self.spacing = float(np.max(np.diff(self.sigma)) if self.corners.size else self.sigma[1] - self.sigma[0])
+        self._tubes = tuple(tubes)
+        self._arc = self.arc_at(self.sigma)
         # (the walls' directions away from the crease and the rows' reach at the samples, interpolated between)
         self._e_j, self._e_o, self.sample_reach = self._cone_sides(self.samples, self.spline(self.sigma, 1))
+        owned_samples = np.asarray(self.owned)[self._arc] & ~self.at_corner(self.sigma)
+        self.sample_reach = np.where(owned_samples, self.sample_reach, 0.0)
         self.reach = float(self.sample_reach.max())
         self.box = np.stack((self.samples.min(axis=0), self.samples.max(axis=0)))
         self.chord = float(np.max(np.linalg.norm(np.diff(self.samples, axis=0), axis=1)))  # (samples' spacing)
+
+    @classmethod
+    def periodic(cls, branch: int, other: int, phi: FloatArray, points: FloatArray, tubes: Sequence[Tube]) -> Crease:
+        """The crease through ``points`` at angles ``phi`` (evenly spaced, one period) on one other tube's wall."""
+        knots = np.append(phi, phi[0] + 2.0 * np.pi)
+        return cls(branch, CubicSpline(knots, np.vstack((points, points[:1])), bc_type="periodic"), (other,), (True,),
+                   tubes)
 
     @property
     def points(self) -> FloatArray:
@@ -151,11 +179,35 @@ class Crease:
             slope = np.einsum("ij,ij->i", d1, d1) - np.einsum("ij,ij->i", w, d2)  # f'' of f = |p − K|²/2
             grad = -np.einsum("ij,ij->i", w, d1)
             step = np.where(slope > 0.0, -grad / np.where(slope > 0.0, slope, 1.0), -np.sign(grad) * h)
-            step = np.clip(step, -h, h)
+            step = self._within_arc(sigma, np.clip(step, -h, h))
             sigma = self.lo + np.mod(sigma + step - self.lo, self.hi - self.lo)
             if np.all(np.abs(step) <= 1e-13 * max(1.0, abs(self.hi))):
                 break
         return sigma
+
+    def _within_arc(self, sigma: FloatArray, step: FloatArray) -> FloatArray:
+        """``step`` cut so that ``sigma + step`` does not pass a corner (a search that reaches one stops there:
+        the nearest point is on the arc it started on, or the corner itself)."""
+        if not self.corners.size:
+            return step
+        bounds = np.concatenate((self.corners, [self.hi]))
+        i = np.clip(np.searchsorted(bounds, sigma, side="right") - 1, 0, len(bounds) - 2)
+        return np.clip(step, bounds[i] - sigma, bounds[i + 1] - sigma)
+
+    def arc_at(self, sigma: FloatArray) -> NDArray[np.intp]:
+        """The arc (index into :attr:`others`) of the crease points at ``sigma`` in ``[lo, hi]`` (a corner: the arc
+        it starts)."""
+        if not self.corners.size:
+            return np.zeros(np.shape(sigma), dtype=np.intp)
+        bounds = np.append(self.corners, self.hi)
+        return np.clip(np.searchsorted(bounds, sigma, side="right") - 1, 0, len(self.others) - 1)
+
+    def at_corner(self, sigma: FloatArray) -> NDArray[np.bool_]:
+        """Whether the crease points at ``sigma`` are corners (where three walls meet: no row of this crease)."""
+        if not self.corners.size:
+            return np.zeros(np.shape(sigma), dtype=bool)
+        gap = np.abs(np.asarray(sigma)[..., None] - np.concatenate((self.corners, [self.hi])))
+        return np.any(gap <= 1e-12 * (self.hi - self.lo), axis=-1)
 
     def rows(self, p: FloatArray, r: FloatArray) -> CreaseRows:
         """The rows ``g_K = |p − X| − r`` of the points ``p`` (m, 3) of wire radii ``r`` (m,) that lie in this
@@ -176,7 +228,7 @@ class Crease:
         x, d1, d2 = self.spline(sigma), self.spline(sigma, 1), self.spline(sigma, 2)
         w = q - x
         d = np.sqrt(np.einsum("ij,ij->i", w, w))
-        cone = self._in_cone(sigma, w, d) & (d > 0.0)
+        cone = self._in_cone(sigma, w, d) & (d > 0.0) & ~self.at_corner(sigma)
         if not cone.any():
             return empty
         i = np.flatnonzero(cone)
@@ -212,7 +264,7 @@ class Crease:
             pinned = (tau + step_t < 0.0) | (tau + step_t > 1.0)  # (τ at a bound: φ's own Newton step)
             step_s = np.where(pinned, np.where(h_ss > 0.0, -g_sig / np.where(h_ss > 0.0, h_ss, 1.0),
                                                -np.sign(g_sig) * h), step_s)
-            step_s = np.clip(step_s, -h, h)
+            step_s = self._within_arc(sigma, np.clip(step_s, -h, h))
             new_tau = np.clip(tau + step_t, 0.0, 1.0)
             moved = np.abs(new_tau - tau)
             tau = new_tau
@@ -266,7 +318,7 @@ class Crease:
         dd = np.einsum("ij,ij->i", d, d)
         w = a + tau[:, None] * d - x
         dist = np.sqrt(np.einsum("ij,ij->i", w, w))
-        keep = (dist > 0.0) & self._in_cone(sigma, w, dist)
+        keep = (dist > 0.0) & self._in_cone(sigma, w, dist) & ~self.at_corner(sigma)
         if not keep.any():
             return CreaseMinima.empty()
         i = np.flatnonzero(keep)
@@ -298,7 +350,7 @@ class Crease:
         x, k1, k2 = self.spline(sigma), self.spline(sigma, 1), self.spline(sigma, 2)
         w = p - x
         dist = np.sqrt(np.einsum("ij,ij->i", w, w))
-        keep = (dist > 0.0) & self._in_cone(sigma, w, dist)
+        keep = (dist > 0.0) & self._in_cone(sigma, w, dist) & ~self.at_corner(sigma)
         if not keep.any():
             return CreaseMinima.empty()
         i = np.flatnonzero(keep)
@@ -314,13 +366,12 @@ class Crease:
         """At crease points ``x`` with tangents ``k1``: the directions ``e_j``, ``e_o`` in which the two walls leave
         the crease (normal to it, each away from the other tube) and the rows' reach."""
         tangent = k1 / np.linalg.norm(k1, axis=1)[:, None]
-        inward, radius = [], []
-        for tube in self._tubes:
-            e = tube.closest(x, np.zeros(len(x)))
-            v = e.centre - x
-            inward.append(v / np.linalg.norm(v, axis=1)[:, None])
-            radius.append(e.radius)
-        n_j, n_o = inward
+        n_j, radius_j = _inward(self._tubes[self.branch], x)
+        n_o, radius_o = np.zeros_like(x), np.zeros(len(x))
+        for arc, other in enumerate(self.others):
+            on = self._arc == arc
+            n_o[on], radius_o[on] = _inward(self._tubes[other], x[on])
+        radius = (radius_j, radius_o)
         e_j = np.cross(n_j, tangent)
         e_j *= np.where(np.einsum("ij,ij->i", e_j, n_o) < 0.0, 1.0, -1.0)[:, None]
         e_o = np.cross(n_o, tangent)
@@ -331,13 +382,24 @@ class Crease:
         """Whether ``w`` (from the crease points at ``sigma``) lies in the crease's cone within its reach: the
         walls' directions and the reach interpolated linearly between the samples (a cone's side is placed to
         ~1e-5 rad; on it the crease's row and the wall's agree to first order, so the switch is smooth there)."""
-        at = (sigma - self.lo) / self.spacing
-        i = np.clip(np.floor(at).astype(np.intp), 0, len(self.sigma) - 2)
-        t = (at - i)[:, None]
+        if self.corners.size:
+            i = np.clip(np.searchsorted(self.sigma, sigma, side="right") - 1, 0, len(self.sigma) - 2)
+            t = ((sigma - self.sigma[i]) / (self.sigma[i + 1] - self.sigma[i]))[:, None]
+        else:
+            at = (sigma - self.lo) / self.spacing
+            i = np.clip(np.floor(at).astype(np.intp), 0, len(self.sigma) - 2)
+            t = (at - i)[:, None]
         e_j = (1.0 - t) * self._e_j[i] + t * self._e_j[i + 1]
         e_o = (1.0 - t) * self._e_o[i] + t * self._e_o[i + 1]
         reach = (1.0 - t[:, 0]) * self.sample_reach[i] + t[:, 0] * self.sample_reach[i + 1]
         return (np.einsum("ij,ij->i", w, e_j) <= 0.0) & (np.einsum("ij,ij->i", w, e_o) <= 0.0) & (dist <= reach)
+
+
+def _inward(tube: Tube, x: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Unit normals into ``tube`` at its wall points ``x`` (m, 3) and its radius there."""
+    e = tube.closest(x, np.zeros(len(x)))
+    v = e.centre - x
+    return v / np.linalg.norm(v, axis=1)[:, None], e.radius
 
 
 def _point_hessian(unit: FloatArray, dist: FloatArray, k1: FloatArray, k2: FloatArray) -> FloatArray:
@@ -348,16 +410,79 @@ def _point_hessian(unit: FloatArray, dist: FloatArray, k1: FloatArray, k2: Float
 
 
 def find_creases(tubes: Sequence[Tube]) -> tuple[Crease, ...]:
-    """The creases of the lumen of ``tubes`` (main first): around each branch that leaves one other tube's side
-    wall, where its wall leaves that tube (see the module docstring). A branch whose crease meets more than one
-    other tube (a bifurcation, where three walls meet) or whose wall starts outside the others has none: its nodes
-    keep the tubes' rows."""
+    """The creases of the lumen of ``tubes`` (main first): around each branch whose wall starts inside the other
+    tubes, where its wall leaves them (see the module docstring). Where the crease meets two tubes (a bifurcation
+    at a trunk's end: the branch leaves the trunk's end and its sibling), it has a corner where three walls meet,
+    found by a root search in the angle, and one arc per tube; the arc along a later sibling's wall is that
+    sibling's (its crease runs along the same curve) and has no rows here."""
+    found = [None] + [_branch_crease(tubes, j) for j in range(1, len(tubes))]
     out: list[Crease] = []
     for j in range(1, len(tubes)):
-        found = _branch_crease(tubes, j)
-        if found is not None and np.all(found[2] == found[2][0]):
-            out.append(Crease(j, int(found[2][0]), found[0], found[1], tubes))
+        item = found[j]
+        if item is None:
+            continue
+        phi, x, other, along = item
+        if np.all(other == other[0]):
+            out.append(Crease.periodic(j, int(other[0]), phi, x, tubes))
+            continue
+        spline, others, corners = _arcs(tubes, j, phi, x, other, along)
+        owned = [o < j or found[o] is None for o in others]
+        if any(owned):
+            out.append(Crease(j, spline, others, owned, tubes, corners))
     return tuple(out)
+
+
+def _arcs(tubes: Sequence[Tube], j: int, phi: FloatArray, x: FloatArray, other: NDArray[np.intp],
+          along: FloatArray) -> tuple[PPoly, list[int], FloatArray]:
+    """The piecewise spline of a crease that meets more than one tube (knots at angles ``phi``, points ``x``, the
+    tube each leaves last ``other``, at ``along`` on the branch): its corners — between two knots whose tubes
+    differ, the point of the branch's wall on both tubes' walls, by Newton's method on its ``(u, φ)`` (central
+    differences for the Jacobian) — and a not-a-knot cubic spline per arc between corners, through the arc's knots
+    and its two corners, as one periodic piecewise cubic starting at the first corner. Returns the spline, each
+    arc's tube and the corners' angles (increasing, the first at the spline's start)."""
+    switch = np.flatnonzero(other != np.roll(other, 1))  # (knot k differs from knot k − 1)
+    period = 2.0 * np.pi
+    o1, o2 = other[switch - 1], other[switch]
+    # Newton on (u, φ): branch j's wall point on both tubes' walls, from the middle of the two knots
+    corner = 0.5 * (phi[switch - 1] - np.where(switch == 0, period, 0.0) + phi[switch])
+    u = 0.5 * (along[switch - 1] + along[switch])
+    hu, hp = 1e-6 * tubes[j].radius0, 1e-6
+
+    def rows(uu: FloatArray, pp: FloatArray) -> FloatArray:
+        w = _wall_at(tubes[j], uu, np.mod(pp, period))
+        zero = np.zeros(1)
+        return np.array([[tubes[t].rows(w[k:k + 1], zero)[0][0] for t in (o1[k], o2[k])] for k in range(len(w))])
+
+    for _ in range(CORNER_STEPS):
+        f = rows(u, corner)
+        if np.max(np.abs(f)) <= 1e-14 * tubes[j].max_radius:
+            break
+        ju = (rows(u + hu, corner) - rows(u - hu, corner)) / (2.0 * hu)
+        jp = (rows(u, corner + hp) - rows(u, corner - hp)) / (2.0 * hp)
+        step = np.linalg.solve(np.stack((ju, jp), axis=2), -f[:, :, None])[:, :, 0]
+        u, corner = u + step[:, 0], corner + step[:, 1]
+    corner_point = _wall_at(tubes[j], u, np.mod(corner, period))
+    # one period from the first corner: knots and corners in increasing angle
+    start = corner[0]
+    knot_phi = start + np.mod(phi - start, period)
+    corner_phi = start + np.mod(corner - start, period)
+    corner_phi[0] = start
+    order = np.argsort(corner_phi)
+    corner_phi, corner_point, arc_other = corner_phi[order], corner_point[order], o2[order]
+    bounds = np.append(corner_phi, start + period)
+    gap = 1e-3 * (phi[1] - phi[0])  # (a knot this close to a corner would only bend the spline)
+    breaks, coefficients = [], []
+    for k in range(len(corner_phi)):
+        inside = (knot_phi > bounds[k] + gap) & (knot_phi < bounds[k + 1] - gap)
+        idx = np.flatnonzero(inside)
+        idx = idx[np.argsort(knot_phi[idx])]
+        t = np.concatenate(([bounds[k]], knot_phi[idx], [bounds[k + 1]]))
+        pts = np.vstack((corner_point[k], x[idx], corner_point[(k + 1) % len(corner_phi)]))
+        piece = CubicSpline(t, pts, bc_type="not-a-knot" if len(t) >= 4 else "natural")
+        breaks.append(piece.x[:-1] if k < len(corner_phi) - 1 else piece.x)
+        coefficients.append(piece.c)
+    spline = PPoly(np.concatenate(coefficients, axis=1), np.concatenate(breaks), extrapolate="periodic")
+    return spline, [int(o) for o in arc_other], corner_phi
 
 
 def _others_row(tubes: Sequence[Tube], j: int, x: FloatArray) -> tuple[FloatArray, NDArray[np.intp]]:
@@ -412,14 +537,23 @@ def _frame(tube: Tube, u: FloatArray) -> tuple[FloatArray, FloatArray]:
     return a, np.cross(t, a)
 
 
-def _branch_crease(tubes: Sequence[Tube], j: int) -> tuple[FloatArray, FloatArray, NDArray[np.intp]] | None:
-    """Angles, crease points and the tube met, around branch ``j``: for each angle the first ``u`` where its wall
-    leaves the other tubes; None when its wall starts outside them (no opening to crease)."""
-    tube = tubes[j]
+def _branch_crease(tubes: Sequence[Tube], j: int) -> tuple[FloatArray, FloatArray, NDArray[np.intp],
+                                                           FloatArray] | None:
+    """Angles, crease points, the tube met and the ``u`` there, around branch ``j``: for each angle the first ``u``
+    where its wall leaves the other tubes; None when its wall starts outside them (no opening to crease)."""
     phi = np.linspace(0.0, 2.0 * np.pi, ANGLES, endpoint=False)
-    step = SCAN_STEP * tube.radius0
-    if not np.all(_others_row(tubes, j, _at(tube, 0.0, phi))[0] > 0.0):
+    if not np.all(_others_row(tubes, j, _at(tubes[j], 0.0, phi))[0] > 0.0):
         return None  # (its wall starts outside the others at some angle: no crease around its start)
+    return _exits(tubes, j, phi)
+
+
+def _exits(tubes: Sequence[Tube], j: int,
+           phi: FloatArray) -> tuple[FloatArray, FloatArray, NDArray[np.intp], FloatArray] | None:
+    """At angles ``phi`` about branch ``j``'s axis, the first ``u`` where its wall leaves the other tubes (bracketed
+    on a grid, then Illinois): the angles, the points, the tube each leaves last and the ``u``; None if it never
+    leaves."""
+    tube = tubes[j]
+    step = SCAN_STEP * tube.radius0
     # (the wall has left the others wherever the axis lies a radius outside them: the scan ends there)
     axis_u = np.arange(0.0, tube.end + step, step)
     axis = tube.evaluate(axis_u)
@@ -427,15 +561,15 @@ def _branch_crease(tubes: Sequence[Tube], j: int) -> tuple[FloatArray, FloatArra
     if not out.size:
         return None  # (a branch that never leaves the others)
     grid = axis_u[: out[0] + 1]
-    uu, pp = np.repeat(grid, ANGLES), np.tile(phi, grid.size)
-    outside = (_others_row(tubes, j, _wall_at(tube, uu, pp))[0] <= 0.0).reshape(grid.size, ANGLES)
+    uu, pp = np.repeat(grid, len(phi)), np.tile(phi, grid.size)
+    outside = (_others_row(tubes, j, _wall_at(tube, uu, pp))[0] <= 0.0).reshape(grid.size, len(phi))
     if not outside[-1].all():
         return None
-    first = np.argmax(outside, axis=0)  # (the first grid value outside, ≥ 1: every angle starts inside)
+    first = np.maximum(np.argmax(outside, axis=0), 1)  # (the first grid value outside: every angle starts inside)
     lo = grid[first - 1]
     a, b = lo.copy(), lo + step
     fa, fb = _others_row(tubes, j, _wall_at(tube, a, phi))[0], _others_row(tubes, j, _wall_at(tube, b, phi))[0]
-    last = np.zeros(ANGLES)  # (the end replaced last: −1 the inner, +1 the outer)
+    last = np.zeros(len(phi))  # (the end replaced last: −1 the inner, +1 the outer)
     for _ in range(ROOT_STEPS):  # (Illinois: regula falsi that halves the value of an end kept twice)
         u = (a * fb - b * fa) / (fb - fa)
         f = _others_row(tubes, j, _wall_at(tube, u, phi))[0]
@@ -450,4 +584,4 @@ def _branch_crease(tubes: Sequence[Tube], j: int) -> tuple[FloatArray, FloatArra
     u = np.where(np.abs(fa) < np.abs(fb), a, b)
     x = _wall_at(tube, u, phi)
     _, other = _others_row(tubes, j, x)
-    return phi, x, other
+    return phi, x, other, u

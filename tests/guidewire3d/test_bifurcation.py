@@ -173,3 +173,21 @@ def test_a_wire_through_the_trunks_bifurcation_slides_over_its_creases(child, le
     force, moment = sol.balance()
     assert force <= 1e-6 * max(total, 1.0) and moment <= 1e-6 * 400.0 * max(total, 1.0)
     assert abs(sol.tangential_contact_force()) <= 0.02 * total
+
+
+@pytest.mark.parametrize("arch_type", ARCH_TYPES)
+def test_every_arch_types_creases_lie_on_their_walls(arch_type):
+    """Every type's creases: each on its walls between its knots to ``WALL_TOL`` (the common-origin trunks of types
+    IV and VI, bent to 0.95 of their radius, to 1e-2 mm: their own closest-ball search, module docstring), and a
+    crease around every branch that leaves a tube's side — the bovine arch's (II) brachiocephalic trunk too, from
+    whose side its left common carotid leaves."""
+    from guidewire.vessel3d.crease import WALL_TOL
+
+    vessel = aortic_arch(arch_type)
+    names = vessel.tube_names
+    for crease in vessel.creases:
+        tolerance = 1e-2 if "trunk" in names[crease.branch] else WALL_TOL
+        assert crease.wall_error() <= tolerance, names[crease.branch]
+    with_crease = {names[c.branch] for c in vessel.creases}
+    if arch_type == "II":
+        assert {"brachiocephalic", "left_common_carotid", "right_common_carotid", "right_subclavian"} <= with_crease

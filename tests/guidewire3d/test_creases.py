@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from guidewire.vessel3d.arch import aortic_arch
-from guidewire.vessel3d.crease import Crease, find_creases
+from guidewire.vessel3d.crease import WALL_TOL, Crease, find_creases
 
 
 @pytest.fixture(scope="module")
@@ -72,7 +72,8 @@ def test_the_shipped_arch_has_a_crease_round_each_branch_leaving_the_aorta(arch)
 def test_the_bifurcation_at_the_trunks_end_has_two_creases_with_corners(arch):
     """Where the trunk ends in the right common carotid and subclavian arteries, each leaves the trunk's end and
     its sibling: a closed crease of two arcs meeting at two corners, where the three walls meet (to 1e-12 mm); each
-    arc on its two walls to 1e-4 mm (measured 4e-5: the knots every 1.4 degrees); the carina (the arc along both
+    arc on its two walls to its tolerance (``WALL_TOL``, 1e-5 mm; the knots twice as dense as the side creases' in
+    the carotid's); the carina (the arc along both
     siblings' walls) held by one of the two creases only."""
     names = arch.tube_names
     forked = {names[c.branch]: c for c in arch.creases if c.corners.size}
@@ -91,7 +92,8 @@ def test_the_bifurcation_at_the_trunks_end_has_two_creases_with_corners(arch):
         for k, other in enumerate(crease.others):
             on = arc == k
             for i in (crease.branch, other):
-                assert np.max(np.abs(arch.tubes[i].rows(x[on], np.zeros(on.sum()))[0])) < 1e-4
+                # (the tolerance holds halfway between knots, where an interpolant's error peaks to first order)
+                assert np.max(np.abs(arch.tubes[i].rows(x[on], np.zeros(on.sum()))[0])) < 1.5 * WALL_TOL
         assert np.linalg.norm(crease.spline(crease.lo) - crease.spline(crease.hi)) < 1e-12  # (closed)
     assert owners == 1
 

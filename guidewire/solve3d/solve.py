@@ -52,13 +52,18 @@ does not see the lumen, straightens the wire in one step 25-70 mm out of it, and
 QPs (helix, 50 mm, 25 bars: 386-587 iterations, 12-28 s; 70 mm at 50 bars: 401-431, 78-94 s). With the bound:
 10-17 iterations, the same energies to 1e-10. (0.03 took 11-17 iterations, 0.01 26-30.)"""
 
-EXTEND_SHIFTED_STEPS = False
-"""The engine's extension of shifted steps (``sqp.minimize(extend_shifted_steps=...)``) is off for the 3-D program:
-turning the J wire through a full turn in the helix (115 steps, the snap at step 99) took 75 s without it and did not
-end within 7 min with it while the shift on top of the augmented-Lagrangian term was the size of the curvature
-across the rows; since it covers the reduced Hessian only (:func:`sqp.hessian.shifted_augmented`) both take the
-same iterations there (488 for the 115 steps, 23 at the snap), as on every step of the straight wire, the S-bend and
-the arch."""
+EXTEND_SHIFTED_STEPS = True
+"""The engine's extension of shifted steps (``sqp.minimize(extend_shifted_steps=...)``: a full step of a model that
+needed an identity shift is doubled while the merit keeps falling). A wire pressed on a branch's rim can roll off
+it: the crease row's curvature (``−λ/r``: 1.6 N over a 0.35 mm tip radius) exceeds the wire's bending stiffness
+there, the Lagrangian is indefinite on the held rows' null space, and the shifted model's steps are ``|g| / δ``
+long: stEVE's J wire solved cold through the brachiocephalic trunk into the right subclavian (20 mm in) crept
+~1e-5 mm a step for 200 iterations (324 in all; with the extension 95, the same energy; 10 mm into the subclavian
+78 → 64, 10 and 30 mm into the common carotid 100 → 85 and 100 → 73, the same energies). The benchmark
+insertions (helix, J wire turned through 360 degrees, S-bend, arch) take the same iterations either way, the three
+steering replays 434 / 653 / 796 against 434 / 640 / 803. (It was off while the shift went on W alone: turning the
+J wire in the helix did not end within 7 min with it; the shift now covers the reduced Hessian only,
+:func:`sqp.hessian.shifted_augmented`.)"""
 
 STALL_ITERATIONS = 15
 STALL_DECREASE = 0.9

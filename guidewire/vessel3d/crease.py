@@ -434,13 +434,15 @@ def _point_hessian(unit: FloatArray, dist: FloatArray, k1: FloatArray, k2: Float
 def find_creases(tubes: Sequence[Tube]) -> tuple[Crease, ...]:
     """The creases of the lumen of ``tubes`` (main first): around each branch whose wall starts inside the other
     tubes, where its wall leaves them (see the module docstring). Where the crease meets two tubes (a bifurcation
-    at a trunk's end: the branch leaves the trunk's end and its sibling), it has a corner where three walls meet,
-    found by a root search in the angle, and one arc per tube; the arc along a later sibling's wall is that
-    sibling's (its crease runs along the same curve) and has no rows here."""
+    at a trunk's end: the branch leaves the trunk's end and its sibling), it has corners where three walls meet
+    (Newton's method on the branch wall's ``(u, φ)``) and one arc per tube; the arc along a later sibling's wall is
+    that sibling's (its crease runs along the same curve) and has no rows here. A crease that strays more than
+    :data:`WALL_TOL` from its walls between its knots is found again with twice the angles, up to
+    :data:`MAX_ANGLES`."""
     found = [None] + [_branch_crease(tubes, j) for j in range(1, len(tubes))]
     out: list[Crease] = []
     for j in range(1, len(tubes)):
-        item, angles = found[j], ANGLES
+        item, angles, kept = found[j], ANGLES, None
         while item is not None:
             phi, x, other, along = item
             if np.all(other == other[0]):
@@ -449,12 +451,15 @@ def find_creases(tubes: Sequence[Tube]) -> tuple[Crease, ...]:
                 spline, others, corners = _arcs(tubes, j, phi, x, other, along)
                 owned = [o < j or found[o] is None for o in others]
                 crease = Crease(j, spline, others, owned, tubes, corners) if any(owned) else None
-            if crease is None or angles >= MAX_ANGLES or crease.wall_error() <= WALL_TOL:
+            if crease is None:
+                break
+            kept = crease
+            if angles >= MAX_ANGLES or crease.wall_error() <= WALL_TOL:
                 break
             angles *= 2  # (a crease that turns fast in its angle: knots twice as dense)
             item = _branch_crease(tubes, j, angles)
-        if item is not None and crease is not None:
-            out.append(crease)
+        if kept is not None:
+            out.append(kept)
     return tuple(out)
 
 

@@ -17,6 +17,10 @@ answers compared by energy. IPOPT gets no multiplier warm start (its warm-start 
 Navigation: the committed steering schedules (``examples/steer_<branch>.txt``, stEVE's J wire pushed and turned into
 each supra-aortic branch of the type I arch, 104-149 steps, up to 536 bars) replayed; the whole replay's wall time.
 
+Bifurcation: stEVE's J wire solved cold from a start along the centrelines through the brachiocephalic trunk into
+the right common carotid and subclavian arteries (tip 10 / 20 / 30 mm in): iterations, time, energy and the contacts'
+force along the wire against their total (the creases at the trunk's end meet three walls).
+
 Growth: the straight wire at 60 mm in the helix, carried to 100 … 3200 bars by the predictor (bars resampled along
 arc length), each size from the converged one before it (the first from a 2 bars per mm insertion), and converged;
 then the median of three 0.5 mm steps at that density. (Carried from the coarse insertion in one jump, 1 600 bars
@@ -46,7 +50,8 @@ from guidewire import Section, Wire
 from guidewire.solve3d import Scene3D
 from guidewire.solve3d.file import load_scene
 from guidewire.solve3d.insert import advance, insert3d, scene_at, tracked_frames
-from guidewire.solve3d.program import Program
+from guidewire.solve3d.program import Program, bar_layout
+from guidewire.solve3d.solve import solve3d
 from guidewire.vessel3d.shapes import helix
 
 SCENES = Path(__file__).resolve().parents[1] / "guidewire" / "scenes" / "vessels3d"
@@ -230,6 +235,49 @@ def navigation(quick: bool) -> list[dict[str, Any]]:
     return out
 
 
+BIFURCATION = (("right_common_carotid", (10.0, 20.0, 30.0)), ("right_subclavian", (10.0, 20.0, 30.0)))
+"""The branches at the brachiocephalic trunk's end, and how deep (mm) the tip is placed in each."""
+
+
+def route_start(vessel: Any, child: str, lengths: np.ndarray) -> np.ndarray:
+    """Nodes along the centrelines from the entrance through the brachiocephalic trunk into ``child``."""
+    names = vessel.tube_names
+    lines = vessel.centrelines(0.1)
+    main, trunk, kid = lines[0], lines[names.index("brachiocephalic")], lines[names.index(child)]
+    k = int(np.argmin(np.linalg.norm(main - trunk[0], axis=1)))
+    poly = np.vstack((main[:k], trunk, kid[1:]))
+    arc = np.concatenate(([0.0], np.cumsum(np.linalg.norm(np.diff(poly, axis=0), axis=1))))
+    s = np.concatenate(([0.0], np.cumsum(lengths)))
+    return np.column_stack([np.interp(s, arc, poly[:, i]) for i in range(3)])
+
+
+def bifurcation(quick: bool) -> list[dict[str, Any]]:
+    """stEVE's J wire solved cold (:func:`solve3d`) from a start along the centrelines through the brachiocephalic
+    trunk into each branch at its end: iterations, time, energy, and the contacts' force along the wire against
+    their total (frictionless: ~0 where the wire slides over the rims)."""
+    scene = load_scene(SCENES / "aortic_arch_I.toml")
+    vessel = scene.vessel
+    vessel.creases  # noqa: B018  (found once, before the clock)
+    out = []
+    for child, depths in BIFURCATION[:1] if quick else BIFURCATION:
+        names = vessel.tube_names
+        lines = vessel.centrelines(0.1)
+        main, trunk = lines[0], lines[names.index("brachiocephalic")]
+        k = int(np.argmin(np.linalg.norm(main - trunk[0], axis=1)))
+        to_kid = float(np.sum(np.linalg.norm(np.diff(np.vstack((main[:k], trunk)), axis=0), axis=1)))
+        for depth in depths[:1] if quick else depths:
+            target = scene_at(scene, to_kid + depth, 0.0, scene.wire.bars / scene.wire.length)
+            lengths, _ = bar_layout(target)
+            sol = solve3d(target, initial_nodes=route_start(vessel, child, lengths))
+            total = sum(f.magnitude for f in sol.forces)
+            out.append({"branch": child, "depth_mm": depth, "bars": sol.n_bars, "success": bool(sol.success),
+                        "iterations": sol.iterations, "ours_s": sol.solve_time_s, "energy": sol.energy,
+                        "tip_in": names[int(vessel.tube_of(sol.nodes[-1:])[0])],
+                        "lengthwise_N": sol.tangential_contact_force(), "contact_N": total})
+            print(f"  bifurcation {child} {depth:g} mm: {sol.iterations} iterations, {sol.solve_time_s:.2f} s")
+    return out
+
+
 def main() -> None:
     ap = parser(__doc__, quick_help="short insertions, growth to 200 bars", repeats=1)
     ap.add_argument("--density", type=float, default=2.0, help="bars per mm (default 2: 240 bars at 120 mm)")
@@ -241,6 +289,7 @@ def main() -> None:
         rows += insertion(name, scene, lengths, turns, ipopt)
     grow = growth(QUICK_GROWTH if args.quick else GROWTH_BARS)
     navigate = navigation(args.quick)
+    fork = bifurcation(args.quick)
     stem = output_stem(args.out, "vessels3d", args.quick)
     write_csv(rows, stem.with_suffix(".csv"))
     lines = [f"# 3-D insertion and rotation steps{' (quick)' if args.quick else ''}", "",
@@ -272,6 +321,14 @@ def main() -> None:
                              "slowest step ms", "iterations"],
                             [[r["branch"], f"{r['solved']}/{r['steps']}", r["bars"], r["total_s"], r["median_ms"],
                               r["max_ms"], r["iterations"]] for r in navigate])
+    lines += ["", "## Through the trunk's bifurcation (cold solves)", "",
+              "stEVE's J wire solved cold from a start along the centrelines through the brachiocephalic trunk into "
+              "each branch at its end (2 bars per mm): the creases there meet three walls at their corners "
+              "(`guidewire/vessel3d/crease.py`); the contacts' force along the wire against their total.", ""]
+    lines += markdown_table(["branch", "tip depth mm", "bars", "solved", "tip in", "iterations", "ours s",
+                             "energy N·mm", "lengthwise N", "contact N"],
+                            [[r["branch"], r["depth_mm"], r["bars"], r["success"], r["tip_in"], r["iterations"],
+                              r["ours_s"], r["energy"], r["lengthwise_N"], r["contact_N"]] for r in fork])
     lines += ["", "## Growth (straight wire, helix, 60 mm; median of three 0.5 mm steps)", ""]
     lines += markdown_table(["bars", "ours ms per step", "iterations", "solved"],
                             [[g["bars"], g["ours_ms"], g["iterations"], g["success"]] for g in grow])

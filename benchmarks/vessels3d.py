@@ -239,18 +239,6 @@ BIFURCATION = (("right_common_carotid", (10.0, 20.0, 30.0)), ("right_subclavian"
 """The branches at the brachiocephalic trunk's end, and how deep (mm) the tip is placed in each."""
 
 
-def route_start(vessel: Any, child: str, lengths: np.ndarray) -> np.ndarray:
-    """Nodes along the centrelines from the entrance through the brachiocephalic trunk into ``child``."""
-    names = vessel.tube_names
-    lines = vessel.centrelines(0.1)
-    main, trunk, kid = lines[0], lines[names.index("brachiocephalic")], lines[names.index(child)]
-    k = int(np.argmin(np.linalg.norm(main - trunk[0], axis=1)))
-    poly = np.vstack((main[:k], trunk, kid[1:]))
-    arc = np.concatenate(([0.0], np.cumsum(np.linalg.norm(np.diff(poly, axis=0), axis=1))))
-    s = np.concatenate(([0.0], np.cumsum(lengths)))
-    return np.column_stack([np.interp(s, arc, poly[:, i]) for i in range(3)])
-
-
 def bifurcation(quick: bool) -> list[dict[str, Any]]:
     """stEVE's J wire solved cold (:func:`solve3d`) from a start along the centrelines through the brachiocephalic
     trunk into each branch at its end: iterations, time, energy, and the contacts' force along the wire against
@@ -268,7 +256,7 @@ def bifurcation(quick: bool) -> list[dict[str, Any]]:
         for depth in depths[:1] if quick else depths:
             target = scene_at(scene, to_kid + depth, 0.0, scene.wire.bars / scene.wire.length)
             lengths, _ = bar_layout(target)
-            sol = solve3d(target, initial_nodes=route_start(vessel, child, lengths))
+            sol = solve3d(target, initial_nodes=vessel.route(np.concatenate(([0.0], np.cumsum(lengths))), child))
             total = sum(f.magnitude for f in sol.forces)
             out.append({"branch": child, "depth_mm": depth, "bars": sol.n_bars, "success": bool(sol.success),
                         "iterations": sol.iterations, "ours_s": sol.solve_time_s, "energy": sol.energy,

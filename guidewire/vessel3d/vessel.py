@@ -40,6 +40,9 @@ BIFURCATION_REACH = 0.5
 """A branch that starts within this fraction of a tube's end radius from its last point makes that end a
 bifurcation: the tube ends in its last ball there instead of continuing straight past it."""
 
+ROUTE_SPACING = 0.1
+"""Spacing (mm) of the centreline samples along which :meth:`Vessel3D.route` measures arc length."""
+
 BEND_LIMIT = 1.0
 """A tube whose centreline curvature times radius reaches this anywhere overlaps itself there (refused)."""
 
@@ -190,6 +193,42 @@ class Vessel3D:
     def path(self, s: Any) -> tuple[FloatArray, FloatArray]:
         """Points (m, 3) and unit tangents along the main centreline at ``s`` (mm from the entrance)."""
         return self._tubes[0].path(np.atleast_1d(np.asarray(s, dtype=float)))
+
+    def route(self, s: Any, tube: str | int) -> FloatArray:
+        """Points (m, 3) at arc lengths ``s`` (mm from the entrance) along the centrelines from the entrance into
+        ``tube`` (a name of :attr:`tube_names` or an index): the main centreline up to where the first tube on the
+        way leaves it (its first point's nearest centreline point), that tube's up to where the next leaves, and so
+        on, the last one to its end and straight on. A start for a wire that is to lie in that branch (the
+        ``initial_nodes`` of :func:`guidewire.solve3d.solve3d`)."""
+        names = self.tube_names
+        if isinstance(tube, str):
+            if tube not in names:
+                raise ValueError(f"tube is {tube!r}; this vessel's tubes are {', '.join(names)}.")
+            tube = names.index(tube)
+        if not 0 <= int(tube) < len(self._tubes):
+            raise ValueError(f"tube is {tube!r}; this vessel has tubes 0 to {len(self._tubes) - 1}.")
+        chain = [int(tube)]
+        while chain[-1] != 0:
+            chain.append(self._parent(chain[-1]))
+        chain.reverse()
+        pieces = []
+        for here, ahead in zip(chain[:-1], chain[1:], strict=True):
+            line = self.centrelines(ROUTE_SPACING)[here]
+            k = int(np.argmin(np.linalg.norm(line - self._tubes[ahead].points[0], axis=1)))
+            pieces.append(line[:k])
+        last = self._tubes[chain[-1]]
+        line = np.vstack((*pieces, self.centrelines(ROUTE_SPACING)[chain[-1]]))
+        arc = np.concatenate(([0.0], np.cumsum(np.linalg.norm(np.diff(line, axis=0), axis=1))))
+        s = np.atleast_1d(np.asarray(s, dtype=float))
+        inside = np.column_stack([np.interp(np.minimum(s, arc[-1]), arc, line[:, i]) for i in range(3)])
+        return inside + np.maximum(s - arc[-1], 0.0)[:, None] * last.tail_tangent
+
+    def _parent(self, j: int) -> int:
+        """The tube that branch ``j`` leaves: of the tubes before it, the one whose lumen holds its first point
+        deepest."""
+        start = self._tubes[j].points[:1]
+        depth = [float(self._tubes[i].rows(start, np.zeros(1))[0][0]) for i in range(j)]
+        return int(np.argmax(depth))
 
     # -- the lumen -----------------------------------------------------------------------------------------------
     def lumen_rows(self, points: FloatArray, radii: FloatArray,

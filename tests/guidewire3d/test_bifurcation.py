@@ -119,18 +119,6 @@ def test_a_wire_pushed_along_the_trunk_turns_into_an_arm(length):
     assert math.hypot(sol.nodes[-1, 0], sol.nodes[-1, 1]) > 3.0
 
 
-def _route_nodes(vessel: Vessel3D, child: str, lengths: np.ndarray) -> np.ndarray:
-    """Nodes along the centrelines from the entrance through the brachiocephalic trunk into ``child``."""
-    names = vessel.tube_names
-    lines = vessel.centrelines(0.1)
-    main, trunk, kid = lines[0], lines[names.index("brachiocephalic")], lines[names.index(child)]
-    k = int(np.argmin(np.linalg.norm(main - trunk[0], axis=1)))
-    poly = np.vstack((main[:k], trunk, kid[1:]))
-    arc = np.concatenate(([0.0], np.cumsum(np.linalg.norm(np.diff(poly, axis=0), axis=1))))
-    s = np.concatenate(([0.0], np.cumsum(lengths)))
-    return np.column_stack([np.interp(s, arc, poly[:, i]) for i in range(3)])
-
-
 @pytest.mark.parametrize(("child", "length", "on_fork"), [("right_common_carotid", 334.0, True),
                                                           ("right_subclavian", 344.0, False)])
 def test_a_wire_through_the_trunks_bifurcation_slides_over_its_creases(child, length, on_fork):
@@ -153,7 +141,7 @@ def test_a_wire_through_the_trunks_bifurcation_slides_over_its_creases(child, le
     vessel = scene.vessel
     target = scene_at(scene, length, 0.0, scene.wire.bars / scene.wire.length)
     lengths, _ = bar_layout(target)
-    sol = solve3d(target, initial_nodes=_route_nodes(vessel, child, lengths))
+    sol = solve3d(target, initial_nodes=vessel.route(np.concatenate(([0.0], np.cumsum(lengths))), child))
     assert sol.success, sol.message
     assert vessel.tube_names[vessel.tube_of(sol.nodes[-1:])[0]] == child
     middle = np.cumsum(sol.lengths) - 0.5 * sol.lengths
@@ -191,3 +179,26 @@ def test_every_arch_types_creases_lie_on_their_walls(arch_type):
     with_crease = {names[c.branch] for c in vessel.creases}
     if arch_type == "II":
         assert {"brachiocephalic", "left_common_carotid", "right_common_carotid", "right_subclavian"} <= with_crease
+
+
+@pytest.mark.parametrize("arch_type", ["I", "II", "IV", "VI"])
+def test_a_route_runs_along_the_centrelines_into_each_tube(arch_type):
+    """``Vessel3D.route``: from the entrance, points 1 mm apart along the centrelines (chords of 1 mm to the
+    centrelines' sampling), through every tube on the way to the asked tube's end (inside the lumen all the way, the
+    middle of the last stretch in the asked tube); a bad name is refused naming the tubes."""
+    vessel = aortic_arch(arch_type)
+    s = np.arange(0.0, 400.0, 1.0)
+    for name in vessel.tube_names[1:]:
+        points = vessel.route(s, name)
+        assert np.allclose(points[0], vessel.entrance[0], atol=1e-12)
+        chords = np.linalg.norm(np.diff(points, axis=0), axis=1)
+        assert np.all(chords <= 1.0 + 1e-9) and np.all(chords > 0.95)
+        index = vessel.tube_names.index(name)
+        tube = vessel.tubes[index]
+        end = int(np.argmin(np.linalg.norm(points - tube.points[-1], axis=1)))  # (where the route ends the tube)
+        assert np.linalg.norm(points[end] - tube.points[-1]) <= 0.5
+        assert vessel.clearance(points[: end + 1])[0].min() > 0.0
+        middle = end - int(0.5 * tube.end)
+        assert vessel.tube_of(points[middle:middle + 1])[0] == index
+    with pytest.raises(ValueError, match="tubes are main"):
+        vessel.route(s, "aorta_root")

@@ -202,3 +202,48 @@ def test_a_route_runs_along_the_centrelines_into_each_tube(arch_type):
         assert vessel.tube_of(points[middle:middle + 1])[0] == index
     with pytest.raises(ValueError, match="tubes are main"):
         vessel.route(s, "aorta_root")
+
+
+def _bent_y(sign: float, order: tuple[int, int] = (0, 1)) -> Vessel3D:
+    """A trunk bending toward ``+x`` (``sign`` 1) or ``−x`` (−1) that ends in two arms at ±35° in the x-z plane
+    (arm 0 on the bend's outer side), listed in ``order``: mirror images of one another in ``x → −x``."""
+    z = np.linspace(0.0, 40.0, 21)
+    main = np.column_stack((sign * 0.004 * z**2, np.zeros_like(z), z))
+    end = main[-1]
+    s = np.linspace(0.0, 40.0, 21)
+    arms = [(end + s[:, None] * np.array([sign * side * math.sin(0.61), 0.0, math.cos(0.61)]), 2.5)
+            for side in (1.0, -1.0)]
+    return Vessel3D.from_centreline(main, 3.0, [arms[k] for k in order])
+
+
+@pytest.mark.parametrize("length", [55.0, 70.0])
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_the_carina_holds_a_wire_the_same_whichever_crease_holds_it(length, sign):
+    """A wire started along the centrelines into the arm on the bend's inner side wraps the carina (a crease
+    contact there, nothing along the wire). The same vessel with its arms listed the other way round — the carina
+    then held by the other arm's crease — and its mirror image give the same answer: energy to 1e-7 (relative),
+    nodes to 1e-4 mm."""
+    from guidewire.solve3d.program import bar_layout
+
+    wire = Wire(length=length, bars=int(length), youngs_modulus=60000.0, diameter=0.36)
+    answers = []
+    vessels = ((_bent_y(1.0), 2), (_bent_y(1.0, (1, 0)), 1), (_bent_y(-1.0), 2))
+    holders = []
+    for vessel, _ in vessels[:2]:  # (the arm whose crease holds the carina: the later-listed one)
+        holder = [c.branch for c in vessel.creases for o, own in zip(c.others, c.owned, strict=True) if o and own]
+        assert len(holder) == 1
+        holders.append(vessel.tubes[holder[0]].points[-1])
+    assert np.linalg.norm(holders[0] - holders[1]) > 10.0
+    for vessel, arm in vessels:
+        scene = Scene3D.in_vessel(wire, vessel)
+        lengths, _ = bar_layout(scene)
+        sol = solve3d(scene, initial_nodes=vessel.route(np.concatenate(([0.0], np.cumsum(lengths))), arm))
+        assert sol.success, sol.message
+        assert any(f.kind == "crease" and f.magnitude > 0.05 for f in sol.forces)
+        assert abs(sol.tangential_contact_force()) < 1e-9
+        answers.append(sol)
+    first, swapped, mirrored = answers
+    assert swapped.energy == pytest.approx(first.energy, rel=1e-7)
+    assert mirrored.energy == pytest.approx(first.energy, rel=1e-7)
+    np.testing.assert_allclose(swapped.nodes, first.nodes, atol=1e-4)
+    np.testing.assert_allclose(mirrored.nodes * [-1.0, 1.0, 1.0], first.nodes, atol=1e-4)

@@ -57,9 +57,9 @@ EXTEND_SHIFTED_STEPS = True
 needed an identity shift is doubled while the merit keeps falling). A wire pressed on a branch's rim can roll off
 it: the crease row's curvature (``−λ/r``: 1.6 N over a 0.35 mm tip radius) exceeds the wire's bending stiffness
 there, the Lagrangian is indefinite on the held rows' null space, and the shifted model's steps are ``|g| / δ``
-long: stEVE's J wire solved cold through the brachiocephalic trunk into the right subclavian (20 mm in) crept
-~1e-5 mm a step for 200 iterations (324 in all; with the extension 95, the same energy; 10 mm into the subclavian
-78 → 64, 10 and 30 mm into the common carotid 100 → 85 and 100 → 73, the same energies). The benchmark
+long: stEVE's J wire solved cold through the brachiocephalic trunk into the right subclavian (20 mm in, from
+``Vessel3D.route``'s start; ``benchmarks/vessels3d.py``) crept ~1e-5 mm a step for 200 iterations (373 in all; with
+the extension 157, the same energy; 10 and 30 mm into the common carotid 100 → 85 and 104 → 73). The benchmark
 insertions (helix, J wire turned through 360 degrees, S-bend, arch) take the same iterations either way, the three
 steering replays 434 / 653 / 796 against 434 / 640 / 803. (It was off while the shift went on W alone: turning the
 J wire in the helix did not end within 7 min with it; the shift now covers the reduced Hessian only,

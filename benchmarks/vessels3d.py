@@ -237,6 +237,7 @@ def navigation(quick: bool) -> list[dict[str, Any]]:
 
 BIFURCATION = (("right_common_carotid", (10.0, 20.0, 30.0)), ("right_subclavian", (10.0, 20.0, 30.0)))
 """The branches at the brachiocephalic trunk's end, and how deep (mm) the tip is placed in each."""
+QUICK_BIFURCATION = (("right_subclavian", (30.0,)),)
 
 
 def bifurcation(quick: bool) -> list[dict[str, Any]]:
@@ -247,13 +248,13 @@ def bifurcation(quick: bool) -> list[dict[str, Any]]:
     vessel = scene.vessel
     vessel.creases  # noqa: B018  (found once, before the clock)
     out = []
-    for child, depths in BIFURCATION[:1] if quick else BIFURCATION:
+    for child, depths in QUICK_BIFURCATION if quick else BIFURCATION:
         names = vessel.tube_names
         lines = vessel.centrelines(0.1)
         main, trunk = lines[0], lines[names.index("brachiocephalic")]
         k = int(np.argmin(np.linalg.norm(main - trunk[0], axis=1)))
         to_kid = float(np.sum(np.linalg.norm(np.diff(np.vstack((main[:k], trunk)), axis=0), axis=1)))
-        for depth in depths[:1] if quick else depths:
+        for depth in depths:
             target = scene_at(scene, to_kid + depth, 0.0, scene.wire.bars / scene.wire.length)
             lengths, _ = bar_layout(target)
             sol = solve3d(target, initial_nodes=vessel.route(np.concatenate(([0.0], np.cumsum(lengths))), child))

@@ -34,6 +34,10 @@ into another part of the tree."""
 TAIL_REACH_RADII = 4.0
 """The tube's straight continuation reaches at least this many end radii (see :data:`TAIL_REACH`)."""
 
+BIFURCATION_REACH = 0.5
+"""A branch that starts within this fraction of a tube's end radius from its last point makes that end a
+bifurcation (:func:`outlets`)."""
+
 HULL_SAMPLES = 16
 """Samples per covering disk of the bound that lets :meth:`Vessel.clearance` skip the tubes a point is far from."""
 
@@ -345,6 +349,21 @@ class Tubes:
         q = np.clip(d1[:, 2] / speed, -0.99, 0.99)
         e = -q[:, None] * t + (side * np.sqrt(1.0 - q**2))[:, None] * n
         return value[:, :2] + value[:, 2:3] * e
+
+
+def outlets(ends: Sequence[ArrayLike], end_radii: Sequence[float], starts: Sequence[ArrayLike]) -> list[bool]:
+    """Per centreline (its last point ``ends[k]`` and end radius), whether its end is an outlet — its tube goes on
+    straight past it — rather than a bifurcation: a trunk ends in a bifurcation when a branch (first points
+    ``starts``, one per centreline but the first, the main one) starts within :data:`BIFURCATION_REACH` end radii
+    of its last point. The lumen then goes on in the branches, not straight on: the tube ends in its last disk or
+    ball. Any dimension."""
+    first = [np.asarray(p, dtype=float) for p in starts]
+    out = []
+    for k, (end, radius) in enumerate(zip(ends, end_radii, strict=True)):
+        gap = np.array([np.linalg.norm(p - np.asarray(end, dtype=float)) for p in first])
+        gap[k - 1:k] = np.inf  # (a branch's own start is not a branch of its end)
+        out.append(not bool(np.any(gap <= BIFURCATION_REACH * float(radius))))
+    return out
 
 
 def menger(a: FloatArray, b: FloatArray, c: FloatArray) -> FloatArray:

@@ -24,6 +24,7 @@ from .curves import (
     Curve,
     Tubes,
     menger,
+    outlets,
     sample_spacing,
     segments_cross,
     self_crossing,
@@ -142,9 +143,13 @@ class TubeGeometry:
         self.centre_curves = curves
         self.answers = Memo()
         self.entrance = curve_entrance(self.main)
-        # the entrance is capped (the first disk); branch junctions too (they lie inside the parent); far ends open
-        reach = [max(TAIL_REACH, TAIL_REACH_RADII * float(c.radius[-1])) for c in curves]
-        self.tubes = Tubes(curves, head_open=[False] * len(curves), tail_open=[True] * len(curves), reach=reach)
+        # the entrance is capped (the first disk); branch junctions too (they lie inside the parent); far ends open,
+        # but a trunk's end where branches start (a bifurcation: the lumen goes on in them) is capped too
+        tails = outlets([p[-1] for p, _, _ in lines], [float(r[-1]) for _, r, _ in lines],
+                        [p[0] for p, _, _ in lines[1:]])
+        reach = [max(TAIL_REACH, TAIL_REACH_RADII * float(c.radius[-1])) if open_ else 0.0
+                 for c, open_ in zip(curves, tails, strict=True)]
+        self.tubes = Tubes(curves, head_open=[False] * len(curves), tail_open=tails, reach=reach)
         self.varying = np.array([np.ptp(rad) > 0.0 for _, rad, _ in lines])
         self._corners: tuple[FloatArray, FloatArray, FloatArray] | None = None if len(curves) > 1 else (
             np.zeros((0, 2)), np.zeros(0), np.zeros((0, 2, 2)))

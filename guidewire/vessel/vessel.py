@@ -10,7 +10,8 @@ Units mm and rad throughout. Two ways to give a lumen:
   exactly ``−(p − c(u*))/|p − c(u*)|``, so the distance is C¹ in the point away from the medial axis. The entrance is
   closed by the first disk (a rounded cap); the far end is open: the tube continues straight along its last tangent
   with its last radius for :data:`TAIL_REACH` (50 mm, or 4 end radii if longer) before a rounded cap, so a tip pushed
-  past the end is not blocked. The lumen of a tree is the union of its tubes
+  past the end is not blocked — unless a branch starts at that end (within half its end radius: a bifurcation, the
+  lumen goes on in the branches), where the last disk closes it. The lumen of a tree is the union of its tubes
   (the largest signed distance).
 - :meth:`Vessel.from_walls`: the lumen between two wall polylines, each interpolated the same way and continued
   straight beyond both of its ends; the signed distance is the distance to the nearer wall, positive on the lumen

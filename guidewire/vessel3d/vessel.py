@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
+from ..vessel.curves import outlets
 from .crease import Crease, CreaseMinima, find_creases
 from .tube import Tube
 
@@ -35,10 +36,6 @@ rests on its rim at two."""
 CREASE_HELD = 1.0
 """A node row's value (mm) where a crease's rows hold the node instead (:meth:`Vessel3D.lumen_rows` with
 ``creases="held"``): any positive number, the row is inactive."""
-
-BIFURCATION_REACH = 0.5
-"""A branch that starts within this fraction of a tube's end radius from its last point makes that end a
-bifurcation: the tube ends in its last ball there instead of continuing straight past it."""
 
 ROUTE_SPACING = 0.1
 """Spacing (mm) of the centreline samples along which :meth:`Vessel3D.route` measures arc length."""
@@ -135,7 +132,8 @@ class Vessel3D:
             if not isinstance(b, Branch3D):
                 raise TypeError(f"vessel.branch[{i}] is {type(b).__name__}; expected Branch3D.")
         lines = [(line, self.radius)] + [(b.centreline, b.radius) for b in self.branches]
-        tails = _outlets(lines)
+        tails = outlets([c[-1] for c, _ in lines], [r[-1] if isinstance(r, tuple) else r for _, r in lines],
+                        [b.centreline[0] for b in self.branches])
         main = Tube(np.array(line), np.asarray(self.radius, dtype=float), tail=tails[0])
         _check_tube(main, "vessel.centreline")
         tubes = [main]
@@ -331,20 +329,6 @@ class Vessel3D:
             u = np.linspace(0.0, tube.end, max(2, int(math.ceil(tube.end / spacing)) + 1))
             out.append(tube.evaluate(u).centre)
         return out
-
-
-def _outlets(lines: Sequence[tuple[Polyline, float | tuple[float, ...]]]) -> list[bool]:
-    """Per centreline, whether its end is an outlet (its tube continues straight past it) rather than a bifurcation:
-    a centreline is a trunk that ends in a bifurcation when a branch starts within :data:`BIFURCATION_REACH` of its
-    end radius from its last point — the lumen goes on in the branches there, not straight on."""
-    starts = np.array([c[0] for c, _ in lines[1:]]).reshape(-1, 3)
-    out = []
-    for k, (c, r) in enumerate(lines):
-        end_radius = r[-1] if isinstance(r, tuple) else r
-        gap = np.linalg.norm(starts - np.asarray(c[-1]), axis=1)
-        gap[k - 1:k] = np.inf  # (not itself)
-        out.append(not bool(np.any(gap <= BIFURCATION_REACH * end_radius)))
-    return out
 
 
 def _check_tube(tube: Tube, name: str) -> None:

@@ -1,7 +1,5 @@
 """``python -m guidewire``: see :mod:`guidewire.app.cli`."""
 
-import sys
+from .app.cli import entry
 
-from .app.cli import main
-
-sys.exit(main())
+entry()

@@ -272,6 +272,25 @@ def _run(argv: Sequence[str] | None) -> int:
         return EXIT_BAD_INPUT
 
 
+def entry() -> None:
+    """The ``guidewire`` command and ``python -m guidewire``: :func:`main`, then exit with its status.
+
+    An interrupted batch (:data:`EXIT_INTERRUPTED`) leaves at once (``os._exit``, the standard streams flushed):
+    its records are written and synced and its pool's workers are terminated and reaped already, and the
+    interpreter's normal exit would still join the process pool's manager thread, which CPython 3.11 can leave
+    blocked on the call queue's pipe to the dead workers (seen once in CI: the message printed, the process alive a
+    minute later)."""
+    status = main()
+    if status == EXIT_INTERRUPTED:
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):
+                pass
+        os._exit(status)
+    sys.exit(status)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status.
 

@@ -145,3 +145,19 @@ def test_the_pools_manager_thread_drops_only_its_invalid_state_error():
     finally:
         threading.excepthook = saved
     assert seen == [("other", InvalidStateError), ("again", ValueError)]
+
+
+def test_an_interrupted_command_exits_though_a_thread_would_block_the_exit():
+    """``guidewire.app.cli.entry``: with the interrupted status the process leaves at once, its output flushed, even
+    while a non-daemon thread would block the interpreter's exit (the stand-in for a process pool's manager thread
+    left waiting on its dead workers' pipe); any other status exits normally."""
+    code = ("import threading, guidewire.app.cli as cli\n"
+            "threading.Thread(target=threading.Event().wait).start()\n"
+            "cli.main = lambda: (print('written', flush=False), cli.EXIT_INTERRUPTED)[1]\n"
+            "cli.entry()\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 130
+    assert done.stdout == "written\n"
+    plain = subprocess.run([sys.executable, "-c", "import guidewire.app.cli as cli\ncli.main = lambda: 3\ncli.entry()"],
+                           capture_output=True, text=True, timeout=60)
+    assert plain.returncode == 3

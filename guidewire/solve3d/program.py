@@ -153,6 +153,11 @@ class Program:
         """:func:`guidewire.rod.kinematics.tangents` at ``z``'s ``ω`` (the closure rows' values, Jacobian and Hessian
         all read them at one point: computed once per point)."""
         key = np.asarray(z, dtype=float).tobytes()
+        self._derivatives_asked(key)
+        return self._tangents(z, key)
+
+    def _tangents(self, z: FloatArray, key: bytes) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """:meth:`tangents` at ``z`` of key ``key`` (its bytes), not recorded as a derivative request."""
         if self._cache.get("tangent_key") != key:
             omega, _ = self.split(z)
             self._cache.update(tangent_key=key, tangents=kinematics.tangents(self.q0, self.basis, omega))
@@ -164,15 +169,42 @@ class Program:
         key = np.asarray(z, dtype=float).tobytes()
         if self._cache.get("tangent_key") == key:
             return self._cache["tangents"][0]
+        if self._speculates(key):
+            return self._tangents(z, key)[0]
         if self._cache.get("tangent_value_key") != key:
             omega, _ = self.split(z)
             t = kinematics.tangents(self.q0, self.basis, omega, derivatives=False)[0]
             self._cache.update(tangent_value_key=key, tangent_values=t)
         return self._cache["tangent_values"]
 
+    def _speculates(self, key: bytes) -> bool:
+        """Whether a value-only request at ``key`` (a line search's trial point) is to be answered from the full
+        evaluation with derivatives (:meth:`parts`, :meth:`tangents`; the same values bit for bit).
+
+        A warm step accepts nearly every trial point and then asks for its derivatives: evaluating the values alone
+        first computed them twice. So a new trial point is evaluated in full when the derivatives of the last one
+        were asked for, and by values alone (the cheaper evaluation) after one that was rejected; a rejection costs
+        at most one wasted set of derivatives. The first point seen is evaluated in full (the start, whose
+        derivatives the solver always takes)."""
+        cache = self._cache
+        if cache.get("trial_key") != key:  # (a new point: decide once for all its value-only requests)
+            cache.update(trial_key=key, speculate=cache.get("trial_used", True), trial_used=False)
+        return bool(cache["speculate"])
+
+    def _derivatives_asked(self, key: bytes) -> None:
+        """Record a derivative request at ``key``: the last trial point's, if it is that point (see
+        :meth:`_speculates`)."""
+        if self._cache.get("trial_key") == key:
+            self._cache["trial_used"] = True
+
     # -- objective -----------------------------------------------------------------------------------------------
     def parts(self, z: FloatArray) -> EnergyParts:
         key = np.asarray(z, dtype=float).tobytes()
+        self._derivatives_asked(key)
+        return self._parts(z, key)
+
+    def _parts(self, z: FloatArray, key: bytes) -> EnergyParts:
+        """:meth:`parts` at ``z`` of key ``key`` (its bytes), not recorded as a derivative request."""
         if self._cache.get("key") != key:
             omega, _ = self.split(z)
             self._cache.update(key=key, parts=self.energy.evaluate(self.q0, self.basis, omega))
@@ -184,6 +216,9 @@ class Program:
         key = np.asarray(z, dtype=float).tobytes()
         if self._cache.get("key") == key:
             parts = self._cache["parts"]
+            return parts.bending, parts.twist
+        if self._speculates(key):
+            parts = self._parts(z, key)
             return parts.bending, parts.twist
         if self._cache.get("value_key") != key:
             omega, _ = self.split(z)

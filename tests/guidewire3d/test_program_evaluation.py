@@ -1,0 +1,66 @@
+"""The 3-D program's evaluations at a line search's trial points: derivatives taken ahead only while trial points
+are accepted, and the same values whichever way a point is evaluated."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from guidewire import Section, Wire
+from guidewire.solve3d import Scene3D
+from guidewire.solve3d.program import Program
+from guidewire.solve3d.solve import _first_frames
+from guidewire.vessel3d.shapes import helix
+
+
+def _program() -> Program:
+    wire = Wire(length=20.0, bars=20, youngs_modulus=17000.0, diameter=0.7, scheme="second_order",
+                sections=(Section(length=10.0, rest_curvature=1.0 / 12.1),))
+    scene = Scene3D.in_vessel(wire, helix(), shear_modulus=17000.0 / 2.66)
+    return Program.build(scene, _first_frames(scene, None, None))
+
+
+def _points(program: Program, count: int) -> list[np.ndarray]:
+    rng = np.random.default_rng(3)
+    z0 = program.start()
+    return [z0 + 1e-2 * rng.standard_normal(z0.size) for _ in range(count)]
+
+
+def _evaluated_in_full(program: Program, z: np.ndarray) -> bool:
+    return program._cache.get("key") == np.asarray(z, dtype=float).tobytes()
+
+
+def test_trial_points_get_derivatives_ahead_only_after_an_accepted_one():
+    """The start and a trial point after one whose derivatives were asked for are evaluated in full; a trial point
+    after a rejected one (values only asked for) by its values alone."""
+    program = _program()
+    closure = program.constraints()[0]
+    z0, z1, z2, z3 = _points(program, 4)
+    program.fun(z0), closure["fun"](z0)
+    assert _evaluated_in_full(program, z0)
+    program.jac(z0), closure["jac"](z0)
+    program.fun(z1), closure["fun"](z1)
+    assert _evaluated_in_full(program, z1)
+    assert program._cache.get("tangent_key") == z1.tobytes()
+    program.fun(z2), closure["fun"](z2)  # (z1 rejected: its derivatives never asked for)
+    assert not _evaluated_in_full(program, z2)
+    assert program._cache.get("tangent_key") != z2.tobytes()
+    program.jac(z2)  # (z2 accepted)
+    program.fun(z3)
+    assert _evaluated_in_full(program, z3)
+
+
+def test_values_are_the_same_evaluated_in_full_or_alone():
+    """Objective and closure rows at a point bit for bit the same from a full evaluation and from the values
+    alone."""
+    full, alone = _program(), _program()
+    z0, z1, z2 = _points(full, 3)
+    for program in (full, alone):
+        program.fun(z0), program.jac(z0)
+    alone.fun(z1)  # (rejected: alone now evaluates trial points by their values)
+    full_closure, alone_closure = full.constraints()[0], alone.constraints()[0]
+    assert _evaluated_in_full(full, z2) is False
+    f_full, c_full = full.fun(z2), full_closure["fun"](z2)
+    f_alone, c_alone = alone.fun(z2), alone_closure["fun"](z2)
+    assert _evaluated_in_full(full, z2) and not _evaluated_in_full(alone, z2)
+    assert f_full == f_alone
+    assert np.array_equal(c_full, c_alone)

@@ -131,6 +131,16 @@ class Program:
         w = np.asarray(z, dtype=float).reshape(self.n, self.width)
         return w[:, :3], np.vstack((self.base_point, self.scale * w[:, 3:]))
 
+    def nodes(self, z: FloatArray) -> FloatArray:
+        """The nodes of :meth:`split` (read-only), computed once per point: the closure, lumen and crease rows'
+        values, Jacobians and Hessians all read them at one point."""
+        key = np.asarray(z, dtype=float).tobytes()
+        if self._cache.get("nodes_key") != key:
+            nodes = self.split(z)[1]
+            nodes.flags.writeable = False
+            self._cache.update(nodes_key=key, nodes=nodes)
+        return self._cache["nodes"]
+
     def frames(self, z: FloatArray) -> FloatArray:
         """Normalised quaternions (n, 4) at ``z``."""
         omega = np.asarray(z, dtype=float).reshape(self.n, self.width)[:, :3]
@@ -280,7 +290,7 @@ class Program:
         (:meth:`guidewire.vessel3d.vessel.Vessel3D.crease_contacts`)."""
         if "radii" not in self._cache:
             self._cache["radii"] = (bar_radii(self.scene, self.lengths), node_radii(self.scene, self.lengths))
-        return self.scene.vessel.crease_contacts(self.split(z)[1], *self._cache["radii"])
+        return self.scene.vessel.crease_contacts(self.nodes(z), *self._cache["radii"])
 
     def _closure(self) -> dict[str, Any]:
         n, s, lengths, W = self.n, self.scale, self.lengths, self.width
@@ -299,7 +309,7 @@ class Program:
         hessian = Pattern.of(*_block_diagonal_pattern(n, 0, W), (m, m))
 
         def fun(z: FloatArray) -> FloatArray:
-            _, p = self.split(z)
+            p = self.nodes(z)
             t = self.tangent_values(z)
             return (np.diff(p, axis=0) - lengths[:, None] * t).ravel()
 
@@ -354,14 +364,14 @@ class Program:
         mode = "held" if self.has_creases else "rows"
 
         def fun(z: FloatArray) -> FloatArray:
-            return vessel.lumen_rows(self.split(z)[1][1:], radii, mode)[0]
+            return vessel.lumen_rows(self.nodes(z)[1:], radii, mode)[0]
 
         def jac(z: FloatArray) -> sp.csr_matrix:
-            grad = vessel.lumen_rows(self.split(z)[1][1:], radii, mode)[1]
+            grad = vessel.lumen_rows(self.nodes(z)[1:], radii, mode)[1]
             return jacobian.matrix(s * grad.ravel())
 
         def hess(z: FloatArray, v: FloatArray) -> sp.csc_matrix:
-            lumen_hessian = vessel.lumen_rows(self.split(z)[1][1:], radii, mode)[2]
+            lumen_hessian = vessel.lumen_rows(self.nodes(z)[1:], radii, mode)[2]
             blocks = s * s * np.asarray(v, dtype=float)[:, None, None] * lumen_hessian
             return hessian.matrix(blocks.ravel())
 
@@ -372,8 +382,18 @@ class Program:
         slots = CREASE_SLOTS
         rows_count = slots * len(self.scene.vessel.creases)
 
+        memo: dict[str, Any] = {}
+
         def places(z: FloatArray) -> tuple[FloatArray, NDArray[np.intp], FloatArray, FloatArray, FloatArray]:
-            """Value, bar, gradient (6,) and Hessian (6, 6) of every row (unused slots: CREASE_FAR, no bar)."""
+            """Value, bar, gradient (6,) and Hessian (6, 6) of every row (unused slots: CREASE_FAR, no bar), found
+            once per point (the rows' values, Jacobian and Hessian all read them)."""
+            key = np.asarray(z, dtype=float).tobytes()
+            if memo.get("key") != key:
+                memo.update(key=key, value=gathered(z))
+            return memo["value"]
+
+        def gathered(z: FloatArray) -> tuple[FloatArray, NDArray[np.intp], FloatArray, FloatArray, FloatArray]:
+            """:func:`places`, computed."""
             value = np.full(rows_count, CREASE_FAR)
             bar = np.full(rows_count, -1, dtype=np.intp)
             grad = np.zeros((rows_count, 6))
@@ -389,7 +409,7 @@ class Program:
             return np.concatenate((first, W * bar[:, None] + 3 + np.arange(3)), axis=1)
 
         def fun(z: FloatArray) -> FloatArray:
-            return places(z)[0]
+            return places(z)[0].copy()  # (the caller's own array: the memo's stays as found)
 
         def jac(z: FloatArray) -> sp.csr_matrix:
             _, bar, grad, _, used = places(z)

@@ -64,3 +64,21 @@ def test_values_are_the_same_evaluated_in_full_or_alone():
     assert _evaluated_in_full(full, z2) and not _evaluated_in_full(alone, z2)
     assert f_full == f_alone
     assert np.array_equal(c_full, c_alone)
+
+
+def test_joint_twists_are_the_jet_strains_twists_bit_for_bit():
+    """The answer's joint twists from the values alone are :func:`joint_strain`'s twists, bit for bit, on frames
+    turned far from one another (both branches of ``atan2``, twists of either sign)."""
+    from guidewire.rod import quaternion as quat
+    from guidewire.rod.jet import Jet
+    from guidewire.rod.strain import joint_strain
+    from guidewire.solve3d.solve import joint_twists
+
+    rng = np.random.default_rng(5)
+    q = rng.standard_normal((50, 4))
+    base = rng.standard_normal(4)
+    left = np.vstack((base, q[:-1]))
+    jets = quat.relative([Jet.constant(left[:, c], 1) for c in range(4)], [Jet.constant(q[:, c], 1) for c in range(4)])
+    expected = joint_strain(jets, "mid")[2].value
+    assert np.any(expected > 0.0) and np.any(expected < 0.0)
+    assert np.array_equal(joint_twists(base, q), expected)

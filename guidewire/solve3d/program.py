@@ -170,7 +170,10 @@ class Program:
         """:meth:`tangents` at ``z`` of key ``key`` (its bytes), not recorded as a derivative request."""
         if self._cache.get("tangent_key") != key:
             omega, _ = self.split(z)
-            self._cache.update(tangent_key=key, tangents=kinematics.tangents(self.q0, self.basis, omega))
+            if "chart_forms" not in self._cache:
+                self._cache["chart_forms"] = kinematics.chart_forms(self.basis)
+            self._cache.update(tangent_key=key, tangents=kinematics.tangents(self.q0, self.basis, omega,
+                                                                             forms=self._cache["chart_forms"]))
         return self._cache["tangents"]
 
     def tangent_values(self, z: FloatArray) -> FloatArray:

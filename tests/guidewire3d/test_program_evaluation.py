@@ -82,3 +82,21 @@ def test_joint_twists_are_the_jet_strains_twists_bit_for_bit():
     expected = joint_strain(jets, "mid")[2].value
     assert np.any(expected > 0.0) and np.any(expected < 0.0)
     assert np.array_equal(joint_twists(base, q), expected)
+
+
+def test_tangents_from_kept_chart_forms_are_the_same_numbers():
+    """:func:`kinematics.tangents` with the charts' forms kept (:func:`kinematics.chart_forms`) gives its values and
+    derivatives bit for bit as computing them afresh; the program's closure rows read them so."""
+    from guidewire.rod import kinematics
+
+    program = _program()
+    rng = np.random.default_rng(7)
+    omega = 0.3 * rng.standard_normal((program.n, 3))
+    fresh = kinematics.tangents(program.q0, program.basis, omega)
+    kept = kinematics.tangents(program.q0, program.basis, omega, forms=kinematics.chart_forms(program.basis))
+    assert np.any(fresh[2] != 0.0)
+    for a, b in zip(fresh, kept, strict=True):
+        assert np.array_equal(a, b)
+    z = program.start().reshape(program.n, program.width).copy()
+    z[:, :3] = omega
+    assert all(np.array_equal(a, b) for a, b in zip(program.tangents(z.ravel()), fresh, strict=True))

@@ -404,7 +404,13 @@ def _gram(C: Any, is_sparse: bool) -> Any:
     if not sp.issparse(C):
         return None
     CtC = as_csc(C.T @ C)
-    return CtC if CtC.nnz <= SPARSE_GRAM_DENSITY * CtC.shape[0] else None
+    if CtC.nnz > SPARSE_GRAM_DENSITY * CtC.shape[0]:
+        return None
+    # (the product's row indices come unsorted: sorted once here, the band placement of sqp.pencil and every
+    # W + r C^T C of the ladders take the canonical paths instead of sorting a copy each; the same entries)
+    if not CtC.has_sorted_indices:
+        CtC.sort_indices()
+    return CtC
 
 
 def _plus_scaled(W: Any, r: float, CtC: Any, is_sparse: bool) -> Any:

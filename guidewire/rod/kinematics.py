@@ -28,9 +28,17 @@ TANGENT_FORMS = np.array([[[0, 0, 1, 0], [0, 0, 0, 1], [1, 0, 0, 0], [0, 1, 0, 0
 """Symmetric ``A_i`` (3, 4, 4) with ``N_i(q) = qᵀ A_i q`` (:func:`guidewire.rod.quaternion.tangent_components`)."""
 
 
-def tangents(q0: FloatArray, basis: FloatArray, omega: FloatArray, derivatives: bool = True) -> tuple[Any, Any, Any]:
+def chart_forms(basis: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """``(EᵀE (n, 3, 3), Eᵀ A_i E (n, 3, 3, 3))`` of the charts ``basis`` (n, 4, 3): the parts of :func:`tangents`'
+    second derivatives that do not depend on ``ω`` (a program keeps its charts through a solve: computed once)."""
+    return basis.transpose(0, 2, 1) @ basis, basis.transpose(0, 2, 1)[:, None] @ (TANGENT_FORMS @ basis[:, None])
+
+
+def tangents(q0: FloatArray, basis: FloatArray, omega: FloatArray, derivatives: bool = True,
+             forms: tuple[FloatArray, FloatArray] | None = None) -> tuple[Any, Any, Any]:
     """Unit tangents (n, 3), ``∂t/∂ω`` (n, 3, 3) and ``∂²t/∂ω²`` (n, 3, 3, 3) at ``q = q0 + basis ω``; with
-    ``derivatives`` False the tangents alone (the same numbers) and two None."""
+    ``derivatives`` False the tangents alone (the same numbers) and two None. ``forms``: :func:`chart_forms` of
+    ``basis`` when the caller keeps them (else computed here; the same numbers)."""
     q = q0 + np.einsum("kij,kj->ki", basis, omega)
     # N_i = qᵀ A_i q and s = |q|²; t_i = N_i / s by the quotient rule in q, then through the chart (q affine in ω:
     # ∂t/∂ω = ∂t/∂q E, ∂²t/∂ω² = Eᵀ ∂²t/∂q² E)
@@ -43,8 +51,7 @@ def tangents(q0: FloatArray, basis: FloatArray, omega: FloatArray, derivatives: 
     e_grad_n = grad_n @ basis  # Eᵀ ∂N_i/∂q (n, 3, 3)
     e_q = np.einsum("kab,ka->kb", basis, q)  # Eᵀ q (n, 3)
     dt = (e_grad_n - 2.0 * t[:, :, None] * e_q[:, None, :]) / s[:, None, None]
-    ete = basis.transpose(0, 2, 1) @ basis
-    eae = basis.transpose(0, 2, 1)[:, None] @ (TANGENT_FORMS @ basis[:, None])  # Eᵀ A_i E (n, 3, 3, 3)
+    ete, eae = chart_forms(basis) if forms is None else forms  # EᵀE, Eᵀ A_i E (n, 3, 3, 3)
     mixed = e_grad_n[:, :, :, None] * e_q[:, None, None, :]
     ddt = (2.0 * eae - 2.0 * (mixed + mixed.transpose(0, 1, 3, 2)) / s[:, None, None, None]
            - 2.0 * t[:, :, None, None] * ete[:, None] + 8.0 * t[:, :, None, None] * (e_q[:, None, :, None]

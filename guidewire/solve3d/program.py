@@ -131,6 +131,16 @@ class Program:
         w = np.asarray(z, dtype=float).reshape(self.n, self.width)
         return w[:, :3], np.vstack((self.base_point, self.scale * w[:, 3:]))
 
+    def nodes(self, z: FloatArray) -> FloatArray:
+        """The nodes of :meth:`split` (read-only), computed once per point: the closure, lumen and crease rows'
+        values, Jacobians and Hessians all read them at one point."""
+        key = np.asarray(z, dtype=float).tobytes()
+        if self._cache.get("nodes_key") != key:
+            nodes = self.split(z)[1]
+            nodes.flags.writeable = False
+            self._cache.update(nodes_key=key, nodes=nodes)
+        return self._cache["nodes"]
+
     def frames(self, z: FloatArray) -> FloatArray:
         """Normalised quaternions (n, 4) at ``z``."""
         omega = np.asarray(z, dtype=float).reshape(self.n, self.width)[:, :3]
@@ -153,9 +163,17 @@ class Program:
         """:func:`guidewire.rod.kinematics.tangents` at ``z``'s ``ω`` (the closure rows' values, Jacobian and Hessian
         all read them at one point: computed once per point)."""
         key = np.asarray(z, dtype=float).tobytes()
+        self._derivatives_asked(key)
+        return self._tangents(z, key)
+
+    def _tangents(self, z: FloatArray, key: bytes) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """:meth:`tangents` at ``z`` of key ``key`` (its bytes), not recorded as a derivative request."""
         if self._cache.get("tangent_key") != key:
             omega, _ = self.split(z)
-            self._cache.update(tangent_key=key, tangents=kinematics.tangents(self.q0, self.basis, omega))
+            if "chart_forms" not in self._cache:
+                self._cache["chart_forms"] = kinematics.chart_forms(self.basis)
+            self._cache.update(tangent_key=key, tangents=kinematics.tangents(self.q0, self.basis, omega,
+                                                                             forms=self._cache["chart_forms"]))
         return self._cache["tangents"]
 
     def tangent_values(self, z: FloatArray) -> FloatArray:
@@ -164,15 +182,42 @@ class Program:
         key = np.asarray(z, dtype=float).tobytes()
         if self._cache.get("tangent_key") == key:
             return self._cache["tangents"][0]
+        if self._speculates(key):
+            return self._tangents(z, key)[0]
         if self._cache.get("tangent_value_key") != key:
             omega, _ = self.split(z)
             t = kinematics.tangents(self.q0, self.basis, omega, derivatives=False)[0]
             self._cache.update(tangent_value_key=key, tangent_values=t)
         return self._cache["tangent_values"]
 
+    def _speculates(self, key: bytes) -> bool:
+        """Whether a value-only request at ``key`` (a line search's trial point) is to be answered from the full
+        evaluation with derivatives (:meth:`parts`, :meth:`tangents`; the same values bit for bit).
+
+        A warm step accepts nearly every trial point and then asks for its derivatives: evaluating the values alone
+        first computed them twice. So a new trial point is evaluated in full when the derivatives of the last one
+        were asked for, and by values alone (the cheaper evaluation) after one that was rejected; a rejection costs
+        at most one wasted set of derivatives. The first point seen is evaluated in full (the start, whose
+        derivatives the solver always takes)."""
+        cache = self._cache
+        if cache.get("trial_key") != key:  # (a new point: decide once for all its value-only requests)
+            cache.update(trial_key=key, speculate=cache.get("trial_used", True), trial_used=False)
+        return bool(cache["speculate"])
+
+    def _derivatives_asked(self, key: bytes) -> None:
+        """Record a derivative request at ``key``: the last trial point's, if it is that point (see
+        :meth:`_speculates`)."""
+        if self._cache.get("trial_key") == key:
+            self._cache["trial_used"] = True
+
     # -- objective -----------------------------------------------------------------------------------------------
     def parts(self, z: FloatArray) -> EnergyParts:
         key = np.asarray(z, dtype=float).tobytes()
+        self._derivatives_asked(key)
+        return self._parts(z, key)
+
+    def _parts(self, z: FloatArray, key: bytes) -> EnergyParts:
+        """:meth:`parts` at ``z`` of key ``key`` (its bytes), not recorded as a derivative request."""
         if self._cache.get("key") != key:
             omega, _ = self.split(z)
             self._cache.update(key=key, parts=self.energy.evaluate(self.q0, self.basis, omega))
@@ -184,6 +229,9 @@ class Program:
         key = np.asarray(z, dtype=float).tobytes()
         if self._cache.get("key") == key:
             parts = self._cache["parts"]
+            return parts.bending, parts.twist
+        if self._speculates(key):
+            parts = self._parts(z, key)
             return parts.bending, parts.twist
         if self._cache.get("value_key") != key:
             omega, _ = self.split(z)
@@ -245,7 +293,7 @@ class Program:
         (:meth:`guidewire.vessel3d.vessel.Vessel3D.crease_contacts`)."""
         if "radii" not in self._cache:
             self._cache["radii"] = (bar_radii(self.scene, self.lengths), node_radii(self.scene, self.lengths))
-        return self.scene.vessel.crease_contacts(self.split(z)[1], *self._cache["radii"])
+        return self.scene.vessel.crease_contacts(self.nodes(z), *self._cache["radii"])
 
     def _closure(self) -> dict[str, Any]:
         n, s, lengths, W = self.n, self.scale, self.lengths, self.width
@@ -264,7 +312,7 @@ class Program:
         hessian = Pattern.of(*_block_diagonal_pattern(n, 0, W), (m, m))
 
         def fun(z: FloatArray) -> FloatArray:
-            _, p = self.split(z)
+            p = self.nodes(z)
             t = self.tangent_values(z)
             return (np.diff(p, axis=0) - lengths[:, None] * t).ravel()
 
@@ -319,14 +367,14 @@ class Program:
         mode = "held" if self.has_creases else "rows"
 
         def fun(z: FloatArray) -> FloatArray:
-            return vessel.lumen_rows(self.split(z)[1][1:], radii, mode)[0]
+            return vessel.lumen_rows(self.nodes(z)[1:], radii, mode)[0]
 
         def jac(z: FloatArray) -> sp.csr_matrix:
-            grad = vessel.lumen_rows(self.split(z)[1][1:], radii, mode)[1]
+            grad = vessel.lumen_rows(self.nodes(z)[1:], radii, mode)[1]
             return jacobian.matrix(s * grad.ravel())
 
         def hess(z: FloatArray, v: FloatArray) -> sp.csc_matrix:
-            lumen_hessian = vessel.lumen_rows(self.split(z)[1][1:], radii, mode)[2]
+            lumen_hessian = vessel.lumen_rows(self.nodes(z)[1:], radii, mode)[2]
             blocks = s * s * np.asarray(v, dtype=float)[:, None, None] * lumen_hessian
             return hessian.matrix(blocks.ravel())
 
@@ -337,8 +385,18 @@ class Program:
         slots = CREASE_SLOTS
         rows_count = slots * len(self.scene.vessel.creases)
 
+        memo: dict[str, Any] = {}
+
         def places(z: FloatArray) -> tuple[FloatArray, NDArray[np.intp], FloatArray, FloatArray, FloatArray]:
-            """Value, bar, gradient (6,) and Hessian (6, 6) of every row (unused slots: CREASE_FAR, no bar)."""
+            """Value, bar, gradient (6,) and Hessian (6, 6) of every row (unused slots: CREASE_FAR, no bar), found
+            once per point (the rows' values, Jacobian and Hessian all read them)."""
+            key = np.asarray(z, dtype=float).tobytes()
+            if memo.get("key") != key:
+                memo.update(key=key, value=gathered(z))
+            return memo["value"]
+
+        def gathered(z: FloatArray) -> tuple[FloatArray, NDArray[np.intp], FloatArray, FloatArray, FloatArray]:
+            """:func:`places`, computed."""
             value = np.full(rows_count, CREASE_FAR)
             bar = np.full(rows_count, -1, dtype=np.intp)
             grad = np.zeros((rows_count, 6))
@@ -354,7 +412,7 @@ class Program:
             return np.concatenate((first, W * bar[:, None] + 3 + np.arange(3)), axis=1)
 
         def fun(z: FloatArray) -> FloatArray:
-            return places(z)[0]
+            return places(z)[0].copy()  # (the caller's own array: the memo's stays as found)
 
         def jac(z: FloatArray) -> sp.csr_matrix:
             _, bar, grad, _, used = places(z)

@@ -20,9 +20,7 @@ from sqp.backends import auto_choice
 
 from ..rod import kinematics
 from ..rod import quaternion as quat
-from ..rod.jet import Jet
 from ..rod.material import twist_stiffness
-from ..rod.strain import joint_strain
 from ..vessel3d.vessel import CREASE_SLOTS
 from .program import Program, bar_layout, node_radii
 from .result import ContactForce3D, Solution3D, clamp_moment, half_joint_moment
@@ -290,8 +288,10 @@ def external_forces(program: Program, lam: list[Any], nodes: FloatArray, nodes_v
 
 
 def joint_twists(base: FloatArray, q: FloatArray) -> FloatArray:
-    """Twist ``τ`` (rad) of every joint: the clamp's (``q_B`` to bar 1), then between consecutive bars."""
+    """Twist ``τ`` (rad) of every joint: the clamp's (``q_B`` to bar 1), then between consecutive bars.
+
+    ``τ = 2 atan2(r_z, r_0)`` of :func:`guidewire.rod.strain.joint_strain` on the values alone (its jets' value
+    arithmetic, the same numbers, without the bending's and the derivatives' work)."""
     left = np.vstack((base, q[:-1]))
-    qa = [Jet.constant(left[:, c], 1) for c in range(4)]
-    qb = [Jet.constant(q[:, c], 1) for c in range(4)]
-    return joint_strain(quat.relative(qa, qb), "mid")[2].value
+    r = quat.relative([left[:, c] for c in range(4)], [q[:, c] for c in range(4)])
+    return 2.0 * np.arctan2(r[3], r[0])

@@ -69,3 +69,29 @@ def test_the_ladders_return_the_matrices_formed_for_every_candidate(seed, monkey
         assert (d1, r1) == (d2, r2)
         assert (B1 != B2).nnz == 0
     assert with_pencil[0][1] > 0.0  # (W is indefinite: the shift was needed)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_gram_matrix_comes_sorted_and_the_ladder_returns_what_it_did_on_an_unsorted_one(seed):
+    """:func:`sqp.hessian._gram` sorts the product's indices (scipy's sparse product leaves them unsorted), and the
+    augmented ladder on it returns the matrix, entry for entry, and the weight it returns on the unsorted product."""
+    W, _ = _pencil_parts(seed)
+    W = sp.csc_matrix(W + (1.0 - _lowest(W)) * sp.identity(W.shape[0]))  # (positive definite: a rung passes)
+    rng = np.random.default_rng(100 + seed)
+    n, m = W.shape[0], W.shape[0] // 2
+    rows = np.repeat(np.arange(m), 3)
+    cols = (rng.integers(0, n - 3, size=m)[:, None] + np.arange(3)).ravel()
+    C = sp.csr_matrix((rng.normal(size=rows.size), (rows, cols)), shape=(m, n))
+    unsorted = sp.csc_matrix(C.T @ C)
+    assert not unsorted.has_sorted_indices  # (else this test would not test the sorting)
+    CtC = hessian._gram(C, True)
+    assert CtC.has_sorted_indices and CtC.has_canonical_format
+    assert abs(CtC - unsorted).max() == 0.0
+    scale = max(1.0, float(np.abs(W.diagonal()).max()))
+    found = hessian._augmented_ladder(W, CtC, 0.0, 0, scale, True)
+    expected = hessian._augmented_ladder(W, unsorted, 0.0, 0, scale, True)
+    assert found is not None and expected is not None
+    assert found[1:] == expected[1:]
+    for a, b in ((found[0].indptr, expected[0].indptr), (found[0].indices, expected[0].indices),
+                 (found[0].data, expected[0].data)):
+        assert np.array_equal(a, b)

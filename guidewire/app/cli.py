@@ -277,9 +277,10 @@ def entry() -> None:
 
     An interrupted batch (:data:`EXIT_INTERRUPTED`) leaves at once (``os._exit``, the standard streams flushed):
     its records are written and synced and its pool's workers are terminated and reaped already, and the
-    interpreter's normal exit would still join the process pool's manager thread, which CPython 3.11 can leave
-    blocked on the call queue's pipe to the dead workers (seen once in CI: the message printed, the process alive a
-    minute later)."""
+    interpreter's normal exit would still join the process pool's manager thread, which can be blocked for good
+    reading a result that a worker was writing when it was terminated (seen once in CI, the process still alive 25
+    minutes later: the manager thread in ``os.read`` of an 18 493-byte message on the result pipe, whose write end
+    this process itself holds, so no end of file ever comes; the main thread joining it)."""
     status = main()
     if status == EXIT_INTERRUPTED:
         for stream in (sys.stdout, sys.stderr):

@@ -209,13 +209,13 @@ class Vessel3D:
         while chain[-1] != 0:
             chain.append(self._parent(chain[-1]))
         chain.reverse()
+        lines = self.centrelines(ROUTE_SPACING)
         pieces = []
         for here, ahead in zip(chain[:-1], chain[1:], strict=True):
-            line = self.centrelines(ROUTE_SPACING)[here]
-            k = int(np.argmin(np.linalg.norm(line - self._tubes[ahead].points[0], axis=1)))
-            pieces.append(line[:k])
+            k = int(np.argmin(np.linalg.norm(lines[here] - self._tubes[ahead].points[0], axis=1)))
+            pieces.append(lines[here][:k])
         last = self._tubes[chain[-1]]
-        line = np.vstack((*pieces, self.centrelines(ROUTE_SPACING)[chain[-1]]))
+        line = np.vstack((*pieces, lines[chain[-1]]))
         arc = np.concatenate(([0.0], np.cumsum(np.linalg.norm(np.diff(line, axis=0), axis=1))))
         s = np.atleast_1d(np.asarray(s, dtype=float))
         inside = np.column_stack([np.interp(np.minimum(s, arc[-1]), arc, line[:, i]) for i in range(3)])

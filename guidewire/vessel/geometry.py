@@ -66,7 +66,8 @@ class Memo:
 
     Every point's answer depends on that point alone (the closest-point search and what is derived from it are
     elementwise), so points that begin with a kept query's points — an insertion step starts from the previous answer
-    with bars added at the tip — reuse its record and answers for those rows and compute only the rest."""
+    with bars added at the tip, the lumen's rows from the predictor's nodes with only the new tip turned — reuse its
+    record and answers for the leading rows the two share and compute only the rest."""
 
     def __init__(self) -> None:
         self._answers: dict[tuple[tuple[int, ...], bytes], _Entry] = {}
@@ -83,24 +84,27 @@ class Memo:
                 if kind in entry.answers:
                     return entry.answers[kind]
             else:
-                prefix = max((e for e in self._answers.values()
-                              if 0 < len(e.points) < len(points) and np.array_equal(e.points, points[:len(e.points)])),
-                             key=lambda e: len(e.points), default=None)
+                shared, prefix = max(((_leading(e.points, points), e) for e in self._answers.values()),
+                                     key=lambda pair: pair[0], default=(0, None))
         if entry is None:
-            if prefix is None:
+            if prefix is None or shared == 0:
                 entry = _Entry(points, search(points), None)
             else:
-                rest = search(points[len(prefix.points):])
-                entry = _Entry(points, {name: np.concatenate((prefix.record[name], rest[name])) for name in rest},
-                               (len(prefix.points), prefix.answers))
+                record = {name: value[:shared] for name, value in prefix.record.items()}
+                if shared < len(points):
+                    rest = search(points[shared:])
+                    record = {name: np.concatenate((record[name], rest[name])) for name in rest}
+                entry = _Entry(points, record, (shared, prefix.answers))
         known = entry.source[1].get(kind) if entry.source is not None else None
         if known is None:
             out = derive(entry.record, kind)
         else:
             start = entry.source[0]
-            new = derive({name: value[start:] for name, value in entry.record.items()}, kind)
-            out = Clearance(**{name: np.concatenate((getattr(known, name), getattr(new, name)))
-                               for name in ("distance", "normal", "boundary", "curvature")})
+            parts = [{name: getattr(known, name)[:start] for name in CLEARANCE_FIELDS}]
+            if start < len(points):
+                new = derive({name: value[start:] for name, value in entry.record.items()}, kind)
+                parts.append({name: getattr(new, name) for name in CLEARANCE_FIELDS})
+            out = Clearance(**{name: np.concatenate([part[name] for part in parts]) for name in CLEARANCE_FIELDS})
         for value in (out.distance, out.normal, out.boundary, out.curvature):
             value.flags.writeable = False
         with self._lock:
@@ -110,6 +114,18 @@ class Memo:
                     del self._answers[next(iter(self._answers))]
                 self._answers[key] = entry
         return out
+
+
+CLEARANCE_FIELDS = ("distance", "normal", "boundary", "curvature")
+
+
+def _leading(kept: FloatArray, points: FloatArray) -> int:
+    """How many leading rows of ``points`` equal those of ``kept`` (0 for another dimension)."""
+    n = min(len(kept), len(points))
+    if n == 0 or kept.shape[1:] != points.shape[1:]:
+        return 0
+    same = np.all(kept[:n] == points[:n], axis=1)
+    return n if same.all() else int(np.argmin(same))
 
 
 class _Entry:

@@ -388,6 +388,43 @@ def test_near_and_far_walls_from_one_kept_search_equal_separate_fresh_queries(na
             assert ask[kind](p.copy()) is got  # asked again: the kept answer
 
 
+@pytest.mark.parametrize("name", ["aortic_arch", "tortuous", "straight_channel", "branched"])
+@pytest.mark.parametrize("cut", [1, 35, 89])
+def test_points_sharing_leading_rows_with_a_kept_query_are_answered_as_fresh_ones(name, cut):
+    """A query whose first ``cut`` rows are a kept query's (its tail moved: the lumen's rows at the predictor's nodes
+    with the new tip turned), and one that is a kept query's first rows (shorter): each answer, near and far, equals a
+    fresh vessel's, bit for bit, asked before or after the other kind."""
+    vessel = _branched() if name == "branched" else load_scene(VESSELS / f"{name}.toml").vessel
+    lines = np.concatenate(vessel.wall_lines())
+    box = (*np.sort([lines[:, 0].min(), lines[:, 0].max()]), *np.sort([lines[:, 1].min(), lines[:, 1].max()]))
+    p = _inside(vessel, np.random.default_rng(5), 90, box)
+    moved = p.copy()
+    moved[cut:] += 0.3 * np.random.default_rng(6).normal(size=moved[cut:].shape)
+    geometry = _fresh(vessel)._geometry
+    for query in (moved, p[:cut]):
+        expected = {"near": geometry.clearance(query), "far": geometry.far_side(query)}
+        for order in (("near", "far"), ("far", "near")):
+            memo = _fresh(vessel)
+            ask = {"near": memo.clearance, "far": memo.far_side}
+            ask[order[0]](p)  # the kept query (one answer derived so far)
+            searched: list[int] = []
+            geo = memo._geometry
+            search, derive = geo.search, geo.derive
+            geo.search = lambda q, log=searched, search=search: log.append(len(q)) or search(q)
+            geo.derive = lambda record, kind, log=searched, derive=derive: derive(record, kind) if not log.append(
+                -1) else None
+            for i, kind in enumerate(order[::-1]):
+                got = ask[kind](query)
+                # only the rows the kept query lacks are searched, once for both kinds (what a derivation searches is
+                # not counted: the far wall's check searches its own points)
+                primary = searched[:searched.index(-1)] if -1 in searched else searched
+                assert primary == ([len(query) - cut] if len(query) > cut and i == 0 else []), searched
+                searched.clear()
+                for field in ("distance", "normal", "boundary", "curvature"):
+                    np.testing.assert_array_equal(getattr(got, field), getattr(expected[kind], field),
+                                                  err_msg=f"{kind} {field}")
+
+
 @pytest.mark.parametrize("shift", [0.0, 5.0, -5.0, 10.0])
 def test_a_centreline_coming_back_onto_itself_names_the_two_distant_stretches(shift):
     """A loop that returns across its own start: the message names one point at each stretch (points 1 and 6 or

@@ -2,10 +2,12 @@
 
 What is measured
 ----------------
-Two insertions, each run twice, BLAS on one thread:
+Three insertions, each run twice, BLAS on one thread:
 
 - *planar*: the shipped aortic arch (1 bar per mm) pushed from 5 mm to 250 mm in 1 mm steps (``vessels.py``'s
   insertion), by :func:`guidewire.insert`;
+- *planar, fine*: the tortuous vessel at 25 bars per mm (1 000-1 200 bars) pushed from 40 mm to 48 mm in 1 mm steps
+  (``vessels.py``'s ~1 000-bar case);
 - *3-D*: stEVE's J wire in the type I arch at 2 bars per mm, pushed 20 → 120 mm in 2 mm steps and then turned
   (``vessels3d.py``'s case), by :func:`guidewire.solve3d.insert.insert3d`.
 
@@ -16,8 +18,8 @@ compiled code, so the split is an estimate; the shares, not the profiled millise
 nest only where the table says so (*of which*). Counts: iterations, Python function calls and sparse matrices built
 (``scipy.sparse`` compressed-matrix constructions) per step, the profiled run's first step included.
 
-Goals this explains (vessel and 3-D issues): planar insertion steps ≤ 1 ms median at 100 bars; a 3-D step ≤ 5 ms
-median at stEVE's size (~240 bars).
+Goals this explains (vessel and 3-D issues): planar insertion steps ≤ 1 ms median at 100 bars and ≤ 3 ms at 1 000
+bars, the 250 mm arch insertion ≤ 0.5 s; a 3-D step ≤ 5 ms median at stEVE's size (~240 bars).
 
 Usage: ``python benchmarks/step_profile.py [--quick] [--out DIR]``; writes ``step_profile.{md,csv}``
 (``_quick`` with ``--quick``: shorter insertions).
@@ -76,13 +78,29 @@ SPATIAL_PHASES: list[Phase] = [
 SPARSE_INIT = ("scipy/sparse/_compressed.py", "__init__")
 
 
+def fresh_insertion(start: guidewire.Scene, lengths: Any) -> list[Any]:
+    """The steps of ``guidewire.insert(start, lengths)`` run as the first time: the vessel's kept query answers
+    dropped first (the run before left its last ones)."""
+    start.vessel.forget_queries()
+    return list(guidewire.insert(start, lengths).steps)
+
+
 def planar(quick: bool) -> tuple[Callable[[], list[Any]], list[Phase]]:
     """The planar insertion (a callable returning its steps) and its phases."""
     scene = guidewire.load_scene(VESSELS / "aortic_arch.toml")
     density = scene.wire.bars / scene.wire.length
     lengths = np.arange(5.0, (60.0 if quick else 250.0) + 0.5, 1.0)
     start = scene.with_wire(length=5.0, bars=max(1, round(5.0 * density)))
-    return (lambda: list(guidewire.insert(start, lengths).steps)), PLANAR_PHASES
+    return (lambda: fresh_insertion(start, lengths)), PLANAR_PHASES
+
+
+def planar_fine(quick: bool) -> tuple[Callable[[], list[Any]], list[Phase]]:
+    """The ~1 000-bar planar insertion (``vessels.py``'s fine tortuous case: 40 → 48 mm at 25 bars per mm) and its
+    phases."""
+    scene = guidewire.load_scene(VESSELS / "tortuous.toml")
+    lengths = 40.0 + np.arange((3 if quick else 8) + 1.0)
+    start = scene.with_wire(length=40.0, bars=round(40.0 * 25.0))
+    return (lambda: fresh_insertion(start, lengths)), PLANAR_PHASES
 
 
 def spatial(quick: bool) -> tuple[Callable[[], list[Any]], list[Phase]]:
@@ -163,7 +181,8 @@ def main() -> None:
     with env.one_thread():
         print("\n".join(env.environment()))
         rows, summaries = [], []
-        for label, make in (("planar arch, 1 bar/mm", planar), ("3-D arch I, stEVE's J wire", spatial)):
+        for label, make in (("planar arch, 1 bar/mm", planar), ("planar tortuous, 25 bars/mm", planar_fine),
+                            ("3-D arch I, stEVE's J wire", spatial)):
             case_rows, summary = profile_case(label, make, args.quick)
             rows += case_rows
             summaries.append(summary)

@@ -4,7 +4,9 @@ What is measured
 ----------------
 For each vessel (bend, S-bend, aortic arch with 250 mm inserted, tortuous) and each bar count ``n``: our cold solve
 ``guidewire.solve(scene, bars=n, branches="first")`` from the default start (median of ``--repeats`` runs of
-``Solution.solve_time_s``; the layout is :func:`guidewire.solve.options.choose_layout`'s: the dense program of bar
+``Solution.solve_time_s`` after a warm-up solve that builds the vessel's corners and boundary samples, each run with
+the vessel's kept query answers dropped first: ``Vessel.forget_queries``, or a repeat would find the closest points
+of the run before it kept; the layout is :func:`guidewire.solve.options.choose_layout`'s: the dense program of bar
 angles up to 300 bars, the sparse full space above), its iterations and rounds. From 200 bars that start is nested
 (:func:`guidewire.solve.pipeline.nested_start`: the same scene solved at a quarter of the bars, at least 100, its
 answer interpolated): the *coarse* column lists those solves' bars; their time is in ours, their iterations are
@@ -69,8 +71,10 @@ def ipopt_on(sol: Any, layout: str) -> dict[str, Any]:
 
 def measure(name: str, bars: int, repeats: int, ipopt: bool) -> dict[str, Any]:
     scene = scene_of(name)
+    guidewire.solve(scene, bars=bars, branches="first")  # (warm-up: the vessel's corners and boundary samples)
     times, sol = [], None
     for _ in range(repeats):
+        scene.vessel.forget_queries()  # (each run searches as the first does: no answers kept from the one before)
         sol = guidewire.solve(scene, bars=bars, branches="first")
         times.append(sol.solve_time_s)
     assert sol is not None

@@ -42,7 +42,7 @@ from ..fields import fmt as _fmt
 from ..fields import fmt_point as _fmt_point
 from ..fields import warn_radius
 from .curves import Clearance
-from .geometry import FAR_WALL_TOLERANCE, TubeGeometry, WallGeometry
+from .geometry import FAR_WALL_TOLERANCE, Memo, TubeGeometry, WallGeometry
 
 FloatArray = NDArray[np.float64]
 Polyline = tuple[tuple[float, ...], ...]
@@ -413,6 +413,12 @@ class Vessel:
         if isinstance(geometry, TubeGeometry):
             return geometry.tube_depths(p)
         return np.asarray(self.clearance(p).distance, dtype=float)[:, None]
+
+    def forget_queries(self) -> None:
+        """Drop the kept answers of :meth:`clearance` and :meth:`far_side` (the built geometry — corners, boundary
+        samples — stays): the same solve repeated then searches as its first run did, which is what a benchmark
+        that repeats a cold solve should time."""
+        self._geometry.answers = Memo()
 
     def past_end(self, points: ArrayLike) -> NDArray[np.bool_]:
         """Whether each point lies beyond a tube's far end (in the straight continuation that lets a tip leave the

@@ -343,6 +343,18 @@ def test_clearance_answers_are_kept_read_only_and_exact():
     np.testing.assert_array_equal(again.clearance(p).distance, first.distance)  # a new vessel computes its own
 
 
+def test_forgetting_the_kept_queries_searches_again_with_the_same_answer():
+    vessel = load_scene(VESSELS / "aortic_arch.toml").vessel
+    p = np.array([[0.0, 5.0], [10.0, 40.0]])
+    first = vessel.clearance(p)
+    corners = vessel.corners
+    vessel.forget_queries()
+    again = vessel.clearance(p)
+    assert again is not first and vessel.corners is corners  # searched anew; the built geometry kept
+    for name in ("distance", "normal", "boundary", "curvature"):
+        np.testing.assert_array_equal(getattr(again, name), getattr(first, name), err_msg=name)
+
+
 def test_clearance_of_points_extending_a_kept_query_equals_a_fresh_one():
     scene = load_scene(VESSELS / "aortic_arch.toml")
     vessel, fresh = scene.vessel, Vessel.from_centreline(scene.vessel.centreline, scene.vessel.radius,

@@ -151,22 +151,31 @@ def _corner_feet(points: FloatArray, corners: FloatArray) -> tuple[FloatArray, F
     return tau, side[:, :, None] * left, np.hypot(gap[..., 0], gap[..., 1])
 
 
-def _corner_slack(model: Model, points: FloatArray) -> FloatArray:
+def _corner_slack(model: Model, points: FloatArray, lumen: Any = None, reach: Any = None) -> FloatArray:
     """The least clearance from the vessel's corners of each node's two bars, less the wire's radius there (mm, every
     node 1..n): what the bar rows of the corners keep ≥ 0. A bar within its length of a corner whose nearest point to
     it lies outside the lumen has passed behind the corner, through its wedge of wall, its two nodes in the lumen on
-    either side: its clearance is that point's (negative)."""
+    either side: its clearance is that point's (negative). ``lumen`` gives those points' clearance
+    (:meth:`Vessel.lumen_clearance` by default), ``reach`` :func:`_corner_reach` when the caller has it."""
     vessel = model.scene.vessel
-    tau, _, distance = _corner_feet(points, vessel.corners)
-    radius = _bar_radii(model)
+    j, c, foot, distance, radius = _corner_reach(model, points) if reach is None else reach
     clearance = distance.copy()
-    j, c = np.nonzero(distance < (model.chain.lengths + radius)[:, None])
     if j.size:
-        foot = points[j] + np.clip(tau[j, c], 0.0, 1.0)[:, None] * (points[j + 1] - points[j])
-        inside = vessel.lumen_clearance(foot)
+        inside = (vessel.lumen_clearance if lumen is None else lumen)(foot)
         clearance[j, c] = np.where(inside < 0.0, inside, distance[j, c])
     bars = np.min(clearance, axis=1) - radius
     return np.minimum(bars, np.append(bars[1:], np.inf))
+
+
+def _corner_reach(model: Model, points: FloatArray) -> tuple[IntArray, IntArray, FloatArray, FloatArray, FloatArray]:
+    """The bars within their length (plus the wire's radius) of a corner, as (bar, corner) pairs ``j, c``, the point
+    of each such bar nearest its corner (mm), every bar's distance from every corner and the wire's radius on every
+    bar (:func:`_corner_slack`'s parts)."""
+    tau, _, distance = _corner_feet(points, model.scene.vessel.corners)
+    radius = _bar_radii(model)
+    j, c = np.nonzero(distance < (model.chain.lengths + radius)[:, None])
+    foot = points[j] + np.clip(tau[j, c], 0.0, 1.0)[:, None] * (points[j + 1] - points[j])
+    return j, c, foot, distance, radius
 
 
 @dataclass(frozen=True)
@@ -231,11 +240,13 @@ class Lumen(Block):
         keep = np.isfinite(far.distance)
         depth = near.distance[nodes - 1]
         normal, wall_depth, curvature = near.normal[nodes - 1], depth, near.curvature[nodes - 1]
+        opening = None
         if vessel.corners.size:
             # the nearest wall of the tube a node lies deepest in, where it runs through another tube's lumen and the
             # node clears that tube's wall too, is no wall: a row on it holds the node from moving into that tube;
             # the row is on the nearest point of the lumen's boundary instead (the module docstring)
-            gone = np.flatnonzero(vessel.opening(near.boundary[nodes - 1], depth))
+            opening = vessel.opening(near.boundary[nodes - 1], depth)
+            gone = np.flatnonzero(opening)
             if gone.size:
                 second = np.sort(vessel.tube_depths(points[nodes[gone]]), axis=1)[:, -2]  # (a corner: ≥ 2 tubes)
                 gone = gone[second >= _needed(model, near.curvature[nodes[gone] - 1], nodes[gone])]
@@ -245,7 +256,7 @@ class Lumen(Block):
                 normal[gone], wall_depth[gone], curvature[gone] = wall.normal, wall.distance, 0.0
         # a node in a corner's cone (the corner its nearest wall point) has a row on its distance from the corner
         # instead of a wall row, whose point (the nearest wall or boundary sample) lies off the corner in an opening
-        cone, _ = vessel.nearest_corner(points[nodes], near.take(nodes - 1))
+        cone, _ = vessel.nearest_corner(points[nodes], near.take(nodes - 1), opening)
         wall_row = cone < 0
         zero = np.zeros(nodes.size)
         parts = [(nodes[wall_row], normal[wall_row], wall_depth[wall_row], curvature[wall_row],
@@ -398,15 +409,27 @@ class Lumen(Block):
         """The slack at every node against the lumen's boundary and the bars' clearance from its corners together,
         and against the boundary alone."""
         nodes = np.arange(1, model.n + 1)
-        c = model.scene.vessel.clearance(points[1:])
-        wall = c.distance - _needed(model, c.curvature, nodes)
-        if not model.scene.vessel.corners.size:
+        vessel = model.scene.vessel
+        if not vessel.corners.size:
+            c = vessel.clearance(points[1:])
+            wall = c.distance - _needed(model, c.curvature, nodes)
             return wall, wall
+        # the nearest corner of the nodes and of the bars' points nearest the corners in one call, with the openings
+        # of all their wall points in one search (every point's answer is its own; the two clearances asked apart,
+        # as the rows and the last step asked them: a step that ends where it started finds them kept)
+        reach = _corner_reach(model, points)
+        both = vessel.clearance(points[1:])
+        if reach[2].size:
+            both = both.joined(vessel.clearance(reach[2]))
+        corner, gap = vessel.nearest_corner(np.concatenate((points[1:], reach[2])), both,
+                                            vessel.opening(both.boundary, both.distance))
+        n = model.n
+        wall = both.distance[:n] - _needed(model, both.curvature[:n], nodes)
         # (in a corner's cone the boundary is the corner: the node's distance from it, not its tube's clearance; a
         # wall row there models a wall that is not there, whose gap to this sends the rounds on to re-model it)
-        cone, gap = model.scene.vessel.nearest_corner(points[1:], c)
-        wall = np.where(cone >= 0, gap - 0.5 * node_diameters(model, nodes), wall)
-        return np.minimum(wall, _corner_slack(model, points)), wall
+        wall = np.where(corner[:n] >= 0, gap[:n] - 0.5 * node_diameters(model, nodes), wall)
+        feet = np.where(corner[n:] >= 0, gap[n:], both.distance[n:])  # (their lumen_clearance)
+        return np.minimum(wall, _corner_slack(model, points, lambda _: feet, reach)), wall
 
     def violation(self, model: Model, phi: FloatArray, points: FloatArray | None = None,
                   rows: Any = None) -> FloatArray:

@@ -73,6 +73,11 @@ class Clearance:
         """The answers for the points ``index`` selects."""
         return Clearance(self.distance[index], self.normal[index], self.boundary[index], self.curvature[index])
 
+    def joined(self, other: Clearance) -> Clearance:
+        """These answers, then ``other``'s (for the points of both, in that order)."""
+        return Clearance(*(np.concatenate((getattr(self, name), getattr(other, name)))
+                           for name in ("distance", "normal", "boundary", "curvature")))
+
 
 # ----------------------------------------------------------------------------------------------------------------
 # validation of the data

@@ -296,7 +296,8 @@ class Vessel:
         along either has the corner as its nearest wall point."""
         return self._geometry.corners[2]
 
-    def nearest_corner(self, points: ArrayLike, near: Clearance | None = None) -> tuple[NDArray[np.int_], FloatArray]:
+    def nearest_corner(self, points: ArrayLike, near: Clearance | None = None,
+                       opening: NDArray[np.bool_] | None = None) -> tuple[NDArray[np.int_], FloatArray]:
         """For each point inside: the corner (index into :attr:`corners`) that is its nearest point of the lumen's
         boundary, or −1, and its distance from that corner (mm; inf for −1).
 
@@ -304,7 +305,9 @@ class Vessel:
         (:attr:`corner_faces`) lies in the corner's cone: the nearest point of both walls, as far as they are the
         lumen's boundary, is the corner. It is the nearest boundary point unless :meth:`clearance`'s wall is nearer
         and not in an opening (:meth:`opening`) — or the point lies farther from the corner than the widest tube's
-        diameter (its own tube has a nearer wall). ``near`` is :meth:`clearance` at ``points`` when the caller has it.
+        diameter (its own tube has a nearer wall). ``near`` is :meth:`clearance` at ``points`` when the caller has it,
+        ``opening`` :meth:`opening` of its wall points (``near.boundary``, ``near.distance``) when the caller has that
+        too (every point's answer is its own: the caller's flags for all of them serve the few asked here).
         """
         p = np.asarray(points, dtype=float).reshape(-1, 2)
         corners = self.corners
@@ -324,7 +327,7 @@ class Vessel:
         ask = np.flatnonzero(np.isfinite(nearest) & (near.distance < nearest))  # a wall nearer, if it is there
         real = np.ones(p.shape[0], dtype=bool)
         if ask.size:
-            real[ask] = ~self.opening(near.boundary[ask], near.distance[ask])
+            real[ask] = ~(self.opening(near.boundary[ask], near.distance[ask]) if opening is None else opening[ask])
         held = np.isfinite(nearest) & ~((near.distance < nearest) & real)
         index[held], found[held] = best[held], nearest[held]
         return index, found

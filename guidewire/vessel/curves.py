@@ -75,8 +75,11 @@ class Clearance:
 
     def joined(self, other: Clearance) -> Clearance:
         """These answers, then ``other``'s (for the points of both, in that order)."""
-        return Clearance(*(np.concatenate((getattr(self, name), getattr(other, name)))
-                           for name in ("distance", "normal", "boundary", "curvature")))
+        return Clearance(*(np.concatenate((getattr(self, name), getattr(other, name))) for name in CLEARANCE_FIELDS))
+
+
+CLEARANCE_FIELDS = ("distance", "normal", "boundary", "curvature")
+"""The fields of a :class:`Clearance`, in order."""
 
 
 # ----------------------------------------------------------------------------------------------------------------

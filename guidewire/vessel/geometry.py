@@ -17,6 +17,7 @@ from scipy.spatial import cKDTree
 from ..fields import fmt_point as _fmt_point
 from .curves import (
     BEND_LIMIT,
+    CLEARANCE_FIELDS,
     SAMPLE_SPACING,
     TAIL_REACH,
     TAIL_REACH_RADII,
@@ -114,9 +115,6 @@ class Memo:
                     del self._answers[next(iter(self._answers))]
                 self._answers[key] = entry
         return out
-
-
-CLEARANCE_FIELDS = ("distance", "normal", "boundary", "curvature")
 
 
 def _leading(kept: FloatArray, points: FloatArray) -> int:

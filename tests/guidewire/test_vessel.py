@@ -343,6 +343,24 @@ def test_clearance_answers_are_kept_read_only_and_exact():
     np.testing.assert_array_equal(again.clearance(p).distance, first.distance)  # a new vessel computes its own
 
 
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_nearest_corner_with_the_callers_opening_flags_equals_its_own_search(seed):
+    """The caller's :meth:`Vessel.opening` flags for all its points give each point the corner it finds asking for
+    its own few (the arch's openings; points near its corners and across the lumen)."""
+    vessel = load_scene(VESSELS / "aortic_arch.toml").vessel
+    rng = np.random.default_rng(seed)
+    corners = vessel.corners
+    p = np.concatenate([corners[rng.integers(len(corners), size=150)] + rng.normal(scale=2.0, size=(150, 2)),
+                        _inside(vessel, rng, 50, (-60.0, 40.0, 0.0, 220.0))])
+    near = vessel.clearance(p)
+    flags = vessel.opening(near.boundary, near.distance)
+    own = vessel.nearest_corner(p, near)
+    given = vessel.nearest_corner(p, near, flags)
+    assert np.any(own[0] >= 0) and np.any(flags)  # (the case is not empty)
+    np.testing.assert_array_equal(given[0], own[0])
+    np.testing.assert_array_equal(given[1], own[1])
+
+
 def test_forgetting_the_kept_queries_searches_again_with_the_same_answer():
     vessel = load_scene(VESSELS / "aortic_arch.toml").vessel
     p = np.array([[0.0, 5.0], [10.0, 40.0]])

@@ -414,15 +414,14 @@ class Lumen(Block):
             c = vessel.clearance(points[1:])
             wall = c.distance - _needed(model, c.curvature, nodes)
             return wall, wall
-        # the nearest corner of the nodes and of the bars' points nearest the corners in one call, with the openings
-        # of all their wall points in one search (every point's answer is its own; the two clearances asked apart,
-        # as the rows and the last step asked them: a step that ends where it started finds them kept)
+        # the nearest corner of the nodes and of the bars' points nearest the corners in one call, so the openings
+        # it asks for are one search (every point's answer is its own; the two clearances asked apart, as the rows
+        # and the last step asked them: a step that ends where it started finds them kept)
         reach = _corner_reach(model, points)
         both = vessel.clearance(points[1:])
         if reach[2].size:
             both = both.joined(vessel.clearance(reach[2]))
-        corner, gap = vessel.nearest_corner(np.concatenate((points[1:], reach[2])), both,
-                                            vessel.opening(both.boundary, both.distance))
+        corner, gap = vessel.nearest_corner(np.concatenate((points[1:], reach[2])), both)
         n = model.n
         wall = both.distance[:n] - _needed(model, both.curvature[:n], nodes)
         # (in a corner's cone the boundary is the corner: the node's distance from it, not its tube's clearance; a

@@ -37,7 +37,7 @@ import _environment as env  # noqa: I001  (first: pins BLAS threads before numpy
 import numpy as np
 from _arguments import parse, parser
 from _tables import cell, markdown_table, output_stem, write_csv, write_markdown
-from step_profile import PLANAR_PHASES, cumulative
+from step_profile import PLANAR_PHASES, phase_rows
 
 import guidewire
 from guidewire.solve.pipeline import _along, _node_arc_lengths
@@ -89,17 +89,9 @@ def measure(name: str, bars: int, repeats: int) -> tuple[dict[str, Any], list[di
         guidewire.solve(scene, branches="first", **options)
         profiler.disable()
         wall += time.perf_counter() - start
-    per_solve = wall / repeats
     stats = pstats.Stats(profiler)
     label = f"{name}, {bars} bars"
-    rows = []
-    for phase, names, part_of in PHASES:
-        share = cumulative(stats, names) / repeats / per_solve
-        rows.append({"case": label, "phase": phase, "part of": part_of or "fine solve", "share": share,
-                     "ms": share * fine_ms})
-    top = sum(r["share"] for r in rows if r["part of"] == "fine solve")
-    rows.append({"case": label, "phase": "other (glue, solution objects)", "part of": "fine solve",
-                 "share": max(0.0, 1.0 - top), "ms": max(0.0, 1.0 - top) * fine_ms})
+    rows = phase_rows(stats, PHASES, label, wall, fine_ms, "fine solve", "ms")
     gap = abs(fine.energy - whole.energy) / max(abs(whole.energy), 1e-300)
     summary = {"vessel": name, "bars": bars, "status": whole.status.name, "total ms": total_ms,
                "coarse bars": coarse_bars, "coarse ms": coarse_ms, "fine ms": fine_ms, "layout": fine.layout,

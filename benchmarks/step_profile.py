@@ -126,6 +126,21 @@ def calls(stats: pstats.Stats, names: list[tuple[str, str]]) -> int:
                if any(file.endswith(suffix) and function == name for suffix, name in names))
 
 
+def phase_rows(stats: pstats.Stats, phases: list[Phase], label: str, profiled_s: float, plain_ms: float,
+               whole: str, unit: str) -> list[dict[str, Any]]:
+    """A row per phase (its share of the ``profiled_s`` seconds the profiler saw, cumulative times, and that share of
+    ``plain_ms``, the plain run's time per unit, under the key ``unit``), then the rest of ``whole`` as *other*."""
+    rows = []
+    for name, names, part_of in phases:
+        share = cumulative(stats, names) / profiled_s
+        rows.append({"case": label, "phase": name, "part of": part_of or whole, "share": share,
+                     unit: share * plain_ms})
+    top = sum(r["share"] for r in rows if r["part of"] == whole)
+    rows.append({"case": label, "phase": "other (glue, solution objects)", "part of": whole,
+                 "share": max(0.0, 1.0 - top), unit: max(0.0, 1.0 - top) * plain_ms})
+    return rows
+
+
 def profile_case(label: str, make: Callable[[bool], tuple[Callable[[], list[Any]], list[Phase]]],
                  quick: bool) -> tuple[list[dict[str, Any]], dict[str, Any]]:
     """One insertion, plain and profiled: a row per phase and the case's summary."""
@@ -144,14 +159,7 @@ def profile_case(label: str, make: Callable[[bool], tuple[Callable[[], list[Any]
     n_steps = len(profiled_steps)
     mean_ms = 1e3 * float(np.mean(times))
     per_step = profiled / n_steps
-    rows = []
-    for name, names, part_of in phases:
-        share = cumulative(stats, names) / n_steps / per_step
-        rows.append({"case": label, "phase": name, "part of": part_of or "step", "share": share,
-                     "ms per step": share * mean_ms})
-    top = sum(r["share"] for r in rows if r["part of"] == "step")
-    rows.append({"case": label, "phase": "other (glue, solution objects)", "part of": "step",
-                 "share": max(0.0, 1.0 - top), "ms per step": max(0.0, 1.0 - top) * mean_ms})
+    rows = phase_rows(stats, phases, label, n_steps * per_step, mean_ms, "step", "ms per step")
     summary = {"case": label, "steps": len(steps), "bars (last)": steps[-1].n_bars,
                "median ms per step": 1e3 * float(np.median(times)), "mean ms per step": mean_ms,
                "median iterations": float(np.median(iterations)), "mean iterations": float(np.mean(iterations)),

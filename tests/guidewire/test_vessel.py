@@ -324,8 +324,9 @@ def test_pruned_tube_search_gives_the_answer_of_searching_every_tube(name):
     for key in ("u", "k", "centre", "radius", "v", "r", "source", "t", "kappa"):
         np.testing.assert_array_equal(best[key][pick], reference[key][flat], err_msg=key)
     np.testing.assert_array_equal(vessel.past_end(p), np.isin(reference["source"][flat], (2, 3)))
-    assert np.all(tubes.upper_bound(p) >= (reference["radius"] - reference["r"]).reshape(len(tubes.curves), -1).T
-                  - 1e-12)
+    depths = (reference["radius"] - reference["r"]).reshape(len(tubes.curves), -1).T
+    assert np.all(tubes.upper_bound(p) >= depths - 1e-12)
+    assert np.all(tubes.lower_bound(p) <= depths.max(axis=1) + 1e-12)  # (which tubes best() searches rests on both)
 
 
 def test_clearance_answers_are_kept_read_only_and_exact():

@@ -231,27 +231,37 @@ class TubeGeometry:
         """The closest-point answers of :meth:`Tubes.closest_pairs` and, per point, the index into them of the tube
         with the largest signed distance (the first such tube on a tie, as ``argmax`` over all tubes).
 
-        The main tube is searched for every point; another tube only where :meth:`Tubes.upper_bound` says it could
-        reach :meth:`Tubes.lower_bound` of the largest signed distance (a point in the aorta far from a branch never
-        searches the branch), all pairs in one search: the same answer as searching every tube (a tube left out
-        cannot reach the largest distance, nor tie it), at a fraction of the cost."""
+        The main tube is searched for every point, another tube only where :meth:`Tubes.upper_bound` says it could
+        reach the largest answer (a point in the aorta far from a branch never searches the branch): the same answer
+        as searching every tube, at a fraction of the cost. The main tube and the others that could reach
+        :meth:`Tubes.lower_bound` of the largest distance are searched in one call; where no answer reaches that
+        bound (a point far outside, where a local search can stop short of the nearest point), the other tubes that
+        could reach the largest answer found are searched too."""
         tubes = self.tubes
         m, t = len(p), len(tubes.curves)
         if t == 1:
             return tubes.closest_pairs(p, np.zeros(m, dtype=np.intp)), np.arange(m)
-        floor = tubes.lower_bound(p) - 1e-9 * np.maximum(1.0, tubes.rmax[1:, None])
-        ii, kk = np.nonzero(tubes.upper_bound(p)[:, 1:].T >= floor)
-        # ii: tube − 1 (k-major, as closest()); kk: point
-        both = tubes.closest_pairs(np.concatenate((p, p[kk])), np.concatenate((np.zeros(m, dtype=np.intp), ii + 1)))
-        if ii.size == 0:
-            return both, np.arange(m)
+        slack = 1e-9 * np.maximum(1.0, tubes.rmax[1:, None])
+        bound = tubes.upper_bound(p)[:, 1:].T  # (tube − 1, point)
+        searched = bound >= tubes.lower_bound(p) - slack
+        ii, kk = np.nonzero(searched)  # ii: tube − 1 (k-major, as closest()); kk: point
+        found = tubes.closest_pairs(np.concatenate((p, p[kk])), np.concatenate((np.zeros(m, dtype=np.intp), ii + 1)))
         value = np.full((t, m), -np.inf)
-        value[0] = both["radius"][:m] - both["r"][:m]
-        value[ii + 1, kk] = both["radius"][m:] - both["r"][m:]
+        value[0] = found["radius"][:m] - found["r"][:m]
+        value[ii + 1, kk] = found["radius"][m:] - found["r"][m:]
+        more = ~searched & (bound >= value.max(axis=0) - slack)  # (only where every answer fell short of the bound)
+        if more.any():
+            ie, ke = np.nonzero(more)
+            extra = tubes.closest_pairs(p[ke], ie + 1)
+            found = {name: np.concatenate((found[name], extra[name])) for name in found}
+            value[ie + 1, ke] = extra["radius"] - extra["r"]
+            ii, kk = np.concatenate((ii, ie)), np.concatenate((kk, ke))
+        if ii.size == 0:
+            return found, np.arange(m)
         where = np.zeros((t, m), dtype=np.intp)
         where[0] = np.arange(m)
         where[ii + 1, kk] = m + np.arange(ii.size)
-        return both, where[np.argmax(value, axis=0), np.arange(m)]
+        return found, where[np.argmax(value, axis=0), np.arange(m)]
 
     def tube_depths(self, p: FloatArray) -> FloatArray:
         """Signed distance (mm, > 0 inside) of every point to every tube's wall, shape (m, tubes): the values whose

@@ -127,9 +127,9 @@ def main() -> None:
         print("\n".join(env.environment()))
         for name in cases:
             for n in bars:
-                summary, phase_rows = measure(name, n, args.repeats)
+                summary, case_rows = measure(name, n, args.repeats)
                 summaries.append(summary)
-                rows += phase_rows
+                rows += case_rows
                 print({k: cell(v) for k, v in summary.items()})
     stem = output_stem(args.out, "cold_profile", args.quick)
     write_csv(summaries + rows, stem.with_suffix(".csv"))

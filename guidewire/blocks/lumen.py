@@ -151,17 +151,16 @@ def _corner_feet(points: FloatArray, corners: FloatArray) -> tuple[FloatArray, F
     return tau, side[:, :, None] * left, np.hypot(gap[..., 0], gap[..., 1])
 
 
-def _corner_slack(model: Model, points: FloatArray, lumen: Any = None, reach: Any = None) -> FloatArray:
+def _corner_slack(reach: tuple[IntArray, IntArray, FloatArray, FloatArray, FloatArray],
+                  inside: FloatArray) -> FloatArray:
     """The least clearance from the vessel's corners of each node's two bars, less the wire's radius there (mm, every
-    node 1..n): what the bar rows of the corners keep ≥ 0. A bar within its length of a corner whose nearest point to
-    it lies outside the lumen has passed behind the corner, through its wedge of wall, its two nodes in the lumen on
-    either side: its clearance is that point's (negative). ``lumen`` gives those points' clearance
-    (:meth:`Vessel.lumen_clearance` by default), ``reach`` :func:`_corner_reach` when the caller has it."""
-    vessel = model.scene.vessel
-    j, c, foot, distance, radius = _corner_reach(model, points) if reach is None else reach
+    node 1..n): what the bar rows of the corners keep ≥ 0. ``reach`` is :func:`_corner_reach` at the nodes, ``inside``
+    the lumen's clearance (:meth:`Vessel.lumen_clearance`) of its points nearest the corners. A bar within its length
+    of a corner whose nearest point to it lies outside the lumen has passed behind the corner, through its wedge of
+    wall, its two nodes in the lumen on either side: its clearance is that point's (negative)."""
+    j, c, _, distance, radius = reach
     clearance = distance.copy()
     if j.size:
-        inside = (vessel.lumen_clearance if lumen is None else lumen)(foot)
         clearance[j, c] = np.where(inside < 0.0, inside, distance[j, c])
     bars = np.min(clearance, axis=1) - radius
     return np.minimum(bars, np.append(bars[1:], np.inf))
@@ -428,7 +427,7 @@ class Lumen(Block):
         # wall row there models a wall that is not there, whose gap to this sends the rounds on to re-model it)
         wall = np.where(corner[:n] >= 0, gap[:n] - 0.5 * node_diameters(model, nodes), wall)
         feet = np.where(corner[n:] >= 0, gap[n:], both.distance[n:])  # (their lumen_clearance)
-        return np.minimum(wall, _corner_slack(model, points, lambda _: feet, reach)), wall
+        return np.minimum(wall, _corner_slack(reach, feet)), wall
 
     def violation(self, model: Model, phi: FloatArray, points: FloatArray | None = None,
                   rows: Any = None) -> FloatArray:

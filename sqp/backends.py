@@ -100,18 +100,22 @@ def check_solver_name(name: str) -> None:
                          f"{', '.join(qpsolvers.available_solvers)}.")
 
 
-def auto_choice(n: int, sparse_jacobians: bool, installed: list[str] | None = None) -> tuple[str, str]:
+def auto_choice(n: int, sparse_jacobians: bool, installed: list[str] | None = None,
+                dense_limit: int = DENSE_LIMIT) -> tuple[str, str]:
     """What ``qp_solver="auto"`` picks for a model with ``n`` variables, and why (for the verbose header).
 
-    See :func:`choose_qp_solver` for the rule; ``installed`` defaults to :func:`installed_solvers`.
+    See :func:`choose_qp_solver` for the rule; ``installed`` defaults to :func:`installed_solvers`, ``dense_limit``
+    (the most variables the engine works densely at, :attr:`sqp.problem.Problem.dense_limit`) to
+    :data:`DENSE_LIMIT`.
     """
     installed = installed_solvers() if installed is None else installed
-    if n <= DENSE_LIMIT:
-        name, why = "daqp", f"n = {n} <= DENSE_LIMIT = {DENSE_LIMIT}: dense active set"
+    limit = "DENSE_LIMIT" if dense_limit == DENSE_LIMIT else "dense_limit"
+    if n <= dense_limit:
+        name, why = "daqp", f"n = {n} <= {limit} = {dense_limit}: dense active set"
     elif sparse_jacobians:
-        name, why = "piqp", f"n = {n} > DENSE_LIMIT = {DENSE_LIMIT}, every constraint Jacobian sparse"
+        name, why = "piqp", f"n = {n} > {limit} = {dense_limit}, every constraint Jacobian sparse"
     else:
-        name, why = "daqp", f"n = {n} > DENSE_LIMIT = {DENSE_LIMIT}, dense constraint rows: dense active set"
+        name, why = "daqp", f"n = {n} > {limit} = {dense_limit}, dense constraint rows: dense active set"
     if name in installed:
         return name, why
     for other in PREFERENCE:

@@ -175,6 +175,7 @@ def build_problem(
     args: tuple[Any, ...] = (),
     hess: Any = None,
     differences: FiniteDifferences | None = None,
+    dense_limit: int = DENSE_LIMIT,
 ) -> Problem:
     """Validate the user's input and stack it into a :class:`Problem` (raises before any solve).
 
@@ -200,7 +201,7 @@ def build_problem(
         xs = np.clip(x, lower, upper)
         clipped = np.flatnonzero(xs != x)
     split = _split_constraints(constraints, n, xs)
-    A_all, linear = _stack_linear(split, n)
+    A_all, linear = _stack_linear(split, n, n <= dense_limit)
     blocks = split.blocks
     nl_lb = np.concatenate([b.lb for b in blocks]) if blocks else np.zeros(0)
     nl_ub = np.concatenate([b.ub for b in blocks]) if blocks else np.zeros(0)
@@ -219,6 +220,7 @@ def build_problem(
         linear_sizes=tuple(a.shape[0] for a in split.lin_A),
         hess=_objective_hessian(hess, blocks, args),
         differences=differences,
+        dense_limit=dense_limit,
         x0_clipped=clipped,
         sparse_jacobians=(all(J is not None and sp.issparse(J) for J in start.J)
                           and all(sp.issparse(a) for a in split.lin_A)),
@@ -288,14 +290,15 @@ def _split_constraints(constraints: Any, n: int, xs: Array) -> _Split:
     return out
 
 
-def _stack_linear(split: _Split, n: int) -> tuple[Any, Rows]:
-    """The linear rows stacked into one matrix and their :class:`Rows`: dense up to DENSE_LIMIT variables, as the
+def _stack_linear(split: _Split, n: int, dense: bool) -> tuple[Any, Rows]:
+    """The linear rows stacked into one matrix and their :class:`Rows`: dense where the engine works densely
+    (``dense``: up to :attr:`Problem.dense_limit` variables), as the
     engine keeps every matrix there (a sparse A would make each iteration's rows sparse, sending an equality QP to a
     backend instead of the direct KKT solve and costing scipy.sparse stacking: the paper scheme's Table 1 at 100
     bars 8.8 -> 3 ms), sparse above it when any block is."""
     if not split.lin_A:
         return np.zeros((0, n)), Rows.from_bounds(np.zeros(0), np.zeros(0))
-    if n <= DENSE_LIMIT:
+    if dense:
         A_all = np.vstack([a.toarray() if sp.issparse(a) else a for a in split.lin_A])
     elif any(sp.issparse(a) for a in split.lin_A):
         A_all = sp.vstack([sp.csr_matrix(a) for a in split.lin_A], format="csr")

@@ -82,7 +82,7 @@ STRUCTURED_MIN = 150
 
 def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0,
               alone_first: bool = True, equality_only: bool = False,
-              rungs: int | None = None) -> tuple[Any, float, float]:
+              rungs: int | None = None, dense_limit: int = DENSE_LIMIT) -> tuple[Any, float, float]:
     """A positive-definite model Hessian from the exact Lagrangian Hessian ``W``, changing the QP step least.
 
     1. ``W`` itself when it is positive definite.
@@ -97,8 +97,8 @@ def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0,
        the first on the guidewire's vessels at 1 600-3 200 bars, where the QP backends then failed on the
        ill-conditioned model: two 100-iteration PIQP runs and Clarabel's before the elastic QP, 2-10 s a solve.)
        Used when
-       ``W`` is dense or small (up to :data:`DENSE_LIMIT` variables a sparse ``W`` is made dense
-       for it), and for a large sparse ``W`` when ``C`` is sparse and ``C^T C`` stays sparse (at most
+       ``W`` is dense or small (up to ``dense_limit``, default :data:`DENSE_LIMIT`, variables a sparse ``W`` is
+       made dense for it), and for a large sparse ``W`` when ``C`` is sparse and ``C^T C`` stays sparse (at most
        :data:`SPARSE_GRAM_DENSITY` nonzeros per variable; tested by the sparse LU below, O(n) when banded).
     3. ``W + delta I`` (an inertia correction as in IPOPT), ``delta`` from ``max(shift / 4, 1e-8 s)`` growing
        tenfold, ``s = max(1, max|W_ii|)``. (A shift along ``hess0`` instead of ``I`` was tried on the guidewire and
@@ -110,12 +110,12 @@ def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0,
     whether ``W`` itself is positive definite (:func:`_indefinite_first`); the answer is the same.
 
     A large sparse banded ``W`` with a few dense rows ``C`` (:func:`sqp.structured.candidate`: the guidewire's
-    reduced program above :data:`DENSE_LIMIT` variables, which 2. cannot serve, or above :data:`STRUCTURED_MIN` when
+    reduced program above ``dense_limit`` variables, which 2. cannot serve, or above :data:`STRUCTURED_MIN` when
     the problem has ``equality_only`` rows) is factorised once and returned as a
     :class:`sqp.structured.FactoredHessian`, even when indefinite: an equality-only subproblem is then solved as
     its KKT system with an inertia test (:func:`sqp.structured.equality_kkt`), the exact Newton step whenever ``W``
     is positive definite on the null space of its rows, and any other subproblem asks for 1.-3. first
-    (:meth:`~sqp.structured.FactoredHessian.convexified`, on the dense ``W`` up to :data:`DENSE_LIMIT`).
+    (:meth:`~sqp.structured.FactoredHessian.convexified`, on the dense ``W`` up to ``dense_limit``).
 
     Returns
     -------
@@ -125,14 +125,14 @@ def convexify(W: Any, shift: float = 0.0, C: Any = None, rho: float = 0.0,
         The identity shift and the augmented-Lagrangian weight used (0 when not needed).
     """
     n = W.shape[0]
-    if (sp.issparse(W) and (n > DENSE_LIMIT or (equality_only and n > STRUCTURED_MIN))
+    if (sp.issparse(W) and (n > dense_limit or (equality_only and n > STRUCTURED_MIN))
             and structured.candidate(W, C)):
         factor = structured.factor_symmetric(W)
         if factor is not None:
             def general() -> tuple[Any, float, float]:
-                return _convexify(W.toarray() if n <= DENSE_LIMIT else W, shift, C, rho, alone_first, rungs)
+                return _convexify(W.toarray() if n <= dense_limit else W, shift, C, rho, alone_first, rungs)
             return structured.FactoredHessian.wrap(W, factor, general), 0.0, 0.0
-    if sp.issparse(W) and n <= DENSE_LIMIT:
+    if sp.issparse(W) and n <= dense_limit:
         W = W.toarray()
     return _convexify(W, shift, C, rho, alone_first, rungs)
 
@@ -170,11 +170,12 @@ def _convexify(W: Any, shift: float, C: Any, rho: float, alone_first: bool = Tru
     return _shift_ladder(W, shift, scale, is_sparse, BandPencil.of(W) if is_sparse else None)
 
 
-def augmented(W: Any, C: Any, rho: float, max_rungs: int) -> tuple[Any, float, float] | None:
+def augmented(W: Any, C: Any, rho: float, max_rungs: int,
+              dense_limit: int = DENSE_LIMIT) -> tuple[Any, float, float] | None:
     """Path 2 of :func:`convexify` alone: ``W + r C^T C`` for the first weight of at most ``max_rungs`` (from
     ``rho / WEIGHT_DECAY`` or the first weight) that is positive definite, as ``(B, 0, r)``; None when none is (no
-    identity shift is tried)."""
-    if sp.issparse(W) and W.shape[0] <= DENSE_LIMIT:
+    identity shift is tried; a sparse ``W`` of at most ``dense_limit`` variables is made dense)."""
+    if sp.issparse(W) and W.shape[0] <= dense_limit:
         W = W.toarray()
     is_sparse = sp.issparse(W)
     scale = max(1.0, float(np.abs(W.diagonal()).max()))

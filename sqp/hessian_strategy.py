@@ -157,7 +157,8 @@ class ConvexifiedExact:
                 return found
         C = equality_rows(self.problem, st.der.J, self.rows)
         B, self.shift, self.weight = convexify(W, self.shift, C, self.weight, self.definite,
-                                               self.problem.equality_only, self.rungs)
+                                               self.problem.equality_only, self.rungs,
+                                               dense_limit=self.problem.dense_limit)
         self.widened = False
         if widen and self.shift > 0.0 and self.widen_failed:
             self.widen_failed = False  # (skipped once)
@@ -180,7 +181,7 @@ class ConvexifiedExact:
         """The model with the term on every ``held`` row when a weight of :data:`WIDENED_RUNGS` makes it positive
         definite (and ``widened`` set, so the next iteration tries it first), else None."""
         C_all = equality_rows(self.problem, st.der.J, held)
-        found = augmented(W, C_all, self.weight, WIDENED_RUNGS)
+        found = augmented(W, C_all, self.weight, WIDENED_RUNGS, self.problem.dense_limit)
         self.widened = found is not None
         self.widen_failed = not self.widened
         if found is None:

@@ -11,7 +11,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from sqp.compressed import as_csc
-from sqp.hessian import DENSE_LIMIT, STRUCTURED_MIN
+from sqp.hessian import STRUCTURED_MIN
 from sqp.kkt import max_violation
 from sqp.problem import NonlinearBlock, Problem, StartValues, call_user, check_jacobian_shape
 from sqp.subproblem import QPStep
@@ -197,11 +197,11 @@ class Evaluator:
         self.nhev += 1
         n = x.size
         self.hessian_nonfinite = None
-        # dense up to STRUCTURED_MIN variables (cheaper than scipy.sparse's per-call overhead), then up to DENSE_LIMIT
-        # dense too unless the problem is equality-only and its objective Hessian sparse (the structured path),
-        # sparse CSC above, whatever format each Hessian comes in
+        # where the engine works densely (Problem.dense): dense up to STRUCTURED_MIN variables (cheaper than
+        # scipy.sparse's per-call overhead), then dense too unless the problem is equality-only and its objective
+        # Hessian sparse (the structured path); sparse CSC otherwise, whatever format each Hessian comes in
         H = self._hessian("hess", call_user("hess", p.hess, x, self.where), n)
-        dense = n <= STRUCTURED_MIN or (n <= DENSE_LIMIT and not (p.equality_only and sp.issparse(H)))
+        dense = p.dense and (n <= STRUCTURED_MIN or not (p.equality_only and sp.issparse(H)))
         W = _as_format(H, dense)
         start = 0
         for block in p.blocks:

@@ -8,7 +8,6 @@ from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 from sqp.backends import AUTO, DEFAULT_QP_OPTIONS, auto_choice, check_solver_name, installed_solvers
-from sqp.hessian import DENSE_LIMIT
 
 #: The default ``qp_fallbacks``.
 DEFAULT_QP_FALLBACKS = ("quadprog", "clarabel")
@@ -48,9 +47,10 @@ class Options:
         is built, from its structure (:func:`sqp.backends.choose_qp_solver`), and reported as ``Result.qp_solver``
         and in the verbose header. The rule, with ``n`` variables:
 
-        - ``n <=`` :data:`sqp.DENSE_LIMIT` (300), where the engine works densely: ``"daqp"`` (dense dual active
-          set). On the Hock–Schittkowski subproblems it was both the most accurate installed backend (exact active
-          sets and multipliers) and the fastest (``benchmarks/results/hock_schittkowski.md``).
+        - ``n <=`` :data:`sqp.DENSE_LIMIT` (300; :func:`sqp.minimize`'s ``dense_limit``), where the engine works
+          densely: ``"daqp"`` (dense dual active set). On the Hock–Schittkowski subproblems it was both the most
+          accurate installed backend (exact active sets and multipliers) and the fastest
+          (``benchmarks/results/hock_schittkowski.md``).
         - larger, with every constraint Jacobian sparse (each nonlinear ``jac`` at ``x0`` and each
           ``LinearConstraint.A`` a scipy.sparse matrix): ``"piqp"`` (sparse interior point), 10-20 ms per
           subproblem on a sparse full-space program with 1600 bars (4800 variables), where Clarabel took 50 ms and
@@ -77,7 +77,8 @@ class Options:
     qp_fallbacks : tuple of str
         Backends asked, in order, when ``qp_solver`` fails a subproblem even after its retries (skipped when not
         installed). The iteration table marks such a step ``opt[name]``. ``()`` disables the fallback. With
-        ``qp_solver="auto"`` above :data:`sqp.DENSE_LIMIT` variables, every Jacobian sparse, the default list
+        ``qp_solver="auto"`` above the dense limit (:data:`sqp.DENSE_LIMIT` variables), every Jacobian sparse, the
+        default list
         drops the dense backends (:data:`DENSE_BACKENDS`): an O(n^3) fallback of a large sparse program is no
         rescue. OSQP is not among the defaults: on the guidewire's aortic arch at 250 bars 52 subproblems failed
         DAQP, quadprog and Clarabel (degenerate elastic QPs the iteration recovers from), where OSQP spent 0.9 s each
@@ -196,8 +197,9 @@ class Options:
             out = replace(out, feasibility_tol=min(self.tol, FEASIBILITY_TOL) if problem.differenced else self.tol)
         if self.qp_solver != AUTO:
             return out
-        out = replace(out, qp_solver=auto_choice(problem.n, problem.sparse_jacobians)[0])
-        if problem.n > DENSE_LIMIT and problem.sparse_jacobians and self.qp_fallbacks == DEFAULT_QP_FALLBACKS:
+        choice = auto_choice(problem.n, problem.sparse_jacobians, dense_limit=problem.dense_limit)[0]
+        out = replace(out, qp_solver=choice)
+        if not problem.dense and problem.sparse_jacobians and self.qp_fallbacks == DEFAULT_QP_FALLBACKS:
             # (a sparse program above the dense limit: a dense backend's O(n^3) fallback is no rescue — quadprog took
             # 55-111 s a subproblem of a 2 900-variable 3-D arch step where Clarabel took 0.7-1.1 s for the same
             # step, and 2.3 s each of 11 subproblems of a 960-variable 2-D S-bend)

@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 
 from sqp.compressed import as_csr
 from sqp.derivatives import FiniteDifferences
+from sqp.hessian import DENSE_LIMIT
 
 Array = NDArray[np.float64]
 
@@ -215,6 +216,9 @@ class Problem:
         Whether every constraint Jacobian is a scipy.sparse matrix: each nonlinear constraint's ``jac`` at ``x0`` (a
         finite-difference one is dense) and each ``LinearConstraint.A``. True without constraints. Read once, by
         ``qp_solver="auto"`` (:func:`sqp.backends.choose_qp_solver`).
+    dense_limit : int
+        The most variables at which the engine works with dense matrices (:attr:`dense`; the ``dense_limit`` of
+        :func:`sqp.minimize`, default :data:`sqp.DENSE_LIMIT`).
     """
 
     fun: Callable[[Array], Any]
@@ -230,6 +234,7 @@ class Problem:
     linear_sizes: tuple[int, ...]
     hess: Callable[[Array], Any] | None = None
     sparse_jacobians: bool = True
+    dense_limit: int = DENSE_LIMIT
     differences: FiniteDifferences = FiniteDifferences()
     x0_clipped: NDArray[np.intp] = field(default_factory=lambda: np.zeros(0, dtype=np.intp))
     start: StartValues | None = field(default=None, repr=False, compare=False)
@@ -237,6 +242,12 @@ class Problem:
     @property
     def n(self) -> int:
         return self.x0.size
+
+    @property
+    def dense(self) -> bool:
+        """Whether the engine works with dense matrices here (``n <= dense_limit``): the Lagrangian Hessian, the
+        linear rows, the QP backend ``"auto"`` picks (DAQP) and its elastic form."""
+        return self.x0.size <= self.dense_limit
 
     @cached_property
     def differenced(self) -> bool:

@@ -25,7 +25,6 @@ from numpy.typing import NDArray
 from scipy.optimize import LinearConstraint, NonlinearConstraint
 
 from sqp.build import build_problem
-from sqp.hessian import DENSE_LIMIT
 from sqp.iterate import Evaluator, Point
 from sqp.options import Options
 from sqp.problem import Problem
@@ -71,7 +70,7 @@ def least_violation(problem: Problem, ev: Evaluator, x: Array, options: Options,
             return sp.hstack([sp.csr_matrix(J), eye, -eye], format="csr")
         return np.hstack([np.asarray(J), np.eye(m), -np.eye(m)])
 
-    sparse = problem.sparse_jacobians and bool(problem.blocks) or n + 2 * m > DENSE_LIMIT
+    sparse = problem.sparse_jacobians and bool(problem.blocks) or n + 2 * m > problem.dense_limit
     start = ev.point(np.asarray(x, dtype=float))
     below = np.maximum(rows.lb - start.c, 0.0)
     above = np.maximum(start.c - rows.ub, 0.0)
@@ -85,7 +84,8 @@ def least_violation(problem: Problem, ev: Evaluator, x: Array, options: Options,
         constraints.append(LinearConstraint(wide, problem.linear.lb, problem.linear.ub))
     bounds = list(zip(np.concatenate([problem.lower, np.zeros(2 * m)]),
                       np.concatenate([problem.upper, np.full(2 * m, np.inf)]), strict=True))
-    restoration = build_problem(lambda z: float(cost @ z), z0, lambda z: cost, bounds, constraints)
+    restoration = build_problem(lambda z: float(cost @ z), z0, lambda z: cost, bounds, constraints,
+                                dense_limit=problem.dense_limit)
     res = solve(restoration, options)
     xr = np.asarray(res.x[:n], dtype=float)
     return Restoration(x=xr, violation=float(np.sum(ev.point(xr).v)), stationary=bool(res.success), result=res)

@@ -25,6 +25,7 @@ from scipy.optimize import OptimizeResult
 
 from sqp.backends import AUTO, auto_choice
 from sqp.build import build_problem
+from sqp.hessian import DENSE_LIMIT
 from sqp.hessian_strategy import HessianStrategy, hessian_strategy
 from sqp.iterate import Derivatives, Evaluator, Point, State
 from sqp.kkt import KKTResiduals, inf_norm
@@ -77,6 +78,7 @@ def minimize(
     step_bound: float = float("inf"),
     augmented_rungs: int | None = None,
     extend_shifted_steps: bool = True,
+    dense_limit: int = DENSE_LIMIT,
 ) -> Result:
     """Minimise ``fun(x, *args)`` subject to bounds and constraints by SQP; scipy's ``minimize(method="SLSQP")`` call.
 
@@ -172,6 +174,13 @@ def minimize(
     extend_shifted_steps : bool
         With ``hess``: extend a full step of a shifted model while the merit keeps falling
         (:attr:`sqp.Options.extend_shifted_steps`).
+    dense_limit : int
+        The most variables at which the engine works with dense matrices (the Lagrangian Hessian, the linear rows,
+        DAQP as ``"auto"``'s backend); default :data:`~sqp.DENSE_LIMIT` (300), where a small problem's dense
+        algebra beats scipy.sparse's per-call overhead. A program whose derivatives are sparse and banded (a
+        discretised rod: the guidewire's 3-D program, 6 variables a bar) is faster kept sparse at every size, its
+        QPs then solved by banded KKT solves of the guessed active set (``active_set_guess``): 0 keeps any
+        sparse input sparse.
 
     Returns
     -------
@@ -215,7 +224,10 @@ def minimize(
                        step_bound=float(step_bound), augmented_rungs=augmented_rungs,
                        extend_shifted_steps=bool(extend_shifted_steps),
                        **({} if qp_fallbacks is None else {"qp_fallbacks": tuple(qp_fallbacks)}))
-    problem = build_problem(fun, x0, jac, bounds, constraints, args, hess, call.differences)
+    if isinstance(dense_limit, bool) or not isinstance(dense_limit, int | np.integer) or dense_limit < 0:
+        raise ValueError(f"dense_limit is {dense_limit!r}; give the most variables to work densely at, a whole "
+                         f"number >= 0 (default {DENSE_LIMIT}; 0 keeps sparse input sparse).")
+    problem = build_problem(fun, x0, jac, bounds, constraints, args, hess, call.differences, int(dense_limit))
     if problem.hess is not None and hess0 is not None:  # exact Hessians replace it: check the shape only
         if np.shape(hess0) != (problem.n, problem.n):
             raise ValueError(f"hess0 has shape {np.shape(hess0)}; expected ({problem.n}, {problem.n}).")
@@ -231,7 +243,8 @@ def minimize(
 
 def run(problem: Problem, options: Options, B0: Array | None = None, lam0: Array | None = None) -> Result:
     """Run the SQP iteration on a validated problem, with ``qp_solver="auto"`` resolved for it first."""
-    why = auto_choice(problem.n, problem.sparse_jacobians)[1] if options.qp_solver == AUTO and options.verbose else ""
+    why = (auto_choice(problem.n, problem.sparse_jacobians, dense_limit=problem.dense_limit)[1]
+           if options.qp_solver == AUTO and options.verbose else "")
     options = options.for_problem(problem)
     if options.verbose:
         print(f"sqp: {problem.n} variables, qp_solver = {options.qp_solver}" + (f" (auto: {why})" if why else ""))

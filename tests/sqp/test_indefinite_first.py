@@ -119,15 +119,15 @@ def _solve_both(monkeypatch, run):
     guessed = []
     real = hessian.convexify
 
-    def spy(W, shift=0.0, C=None, rho=0.0, alone_first=True, equality_only=False, rungs=None):
+    def spy(W, shift=0.0, C=None, rho=0.0, alone_first=True, equality_only=False, rungs=None, **limit):
         guessed.append(not alone_first and rho == 0.0)
-        return real(W, shift, C, rho, alone_first, equality_only, rungs)
+        return real(W, shift, C, rho, alone_first, equality_only, rungs, **limit)
 
     monkeypatch.setattr(hessian_strategy, "convexify", spy)
     new = run()
     monkeypatch.setattr(hessian_strategy, "convexify",
-                        lambda W, shift=0.0, C=None, rho=0.0, alone_first=True, equality_only=False, rungs=None:
-                        real(W, shift, C, rho, True, equality_only, rungs))
+                        lambda W, shift=0.0, C=None, rho=0.0, alone_first=True, equality_only=False, rungs=None,
+                        **limit: real(W, shift, C, rho, True, equality_only, rungs, **limit))
     old = run()
     return new, old, guessed
 

@@ -78,7 +78,7 @@ def _insert(args: argparse.Namespace) -> int:
     if isinstance(scene, Scene3D):
         return insert_3d(args, scene)
     first, lengths = _planar_lengths(args, scene)
-    start_scene = scene.with_wire(length=first, bars=max(1, round(first * scene.wire.bars / scene.wire.length)))
+    start_scene = scene.with_wire(length=first, bars=scene.wire.bars_at(first))
     flagged = [0]
     report = _step_printer(args.quiet, flagged)
     try:

@@ -20,7 +20,7 @@ between segments, never a contact moved.
 from __future__ import annotations
 
 import functools
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -37,11 +37,13 @@ IntArray = NDArray[np.int_]
 
 
 def place_bars(length: float, bars: int, contact_s: Sequence[float], breakpoints: Sequence[float] = (),
-               pinned: Sequence[bool] | None = None) -> tuple[FloatArray, IntArray]:
+               pinned: Sequence[bool] | None = None,
+               refinement: Callable[[FloatArray], FloatArray] | None = None) -> tuple[FloatArray, IntArray]:
     """Bar lengths that put a node at every contact and every breakpoint.
 
     The contacts and breakpoints cut the wire into pieces; the ``n`` bars are shared out in proportion to the
-    pieces' lengths (largest-remainder rounding, at least one bar each), equal within a piece. A piece running from
+    pieces' lengths (times their ``refinement``; largest-remainder rounding, at least one bar each), equal within a
+    piece. A piece running from
     one prescribed position to the next (the base, or a contact with ``pinned`` True) gets at least two bars when
     ``n`` allows, so that two positions closer than a bar are bridged by short bars that can bend, not by one rigid
     bar that must span their distance exactly. Without breakpoints and without such a one-bar piece this is exactly
@@ -60,6 +62,10 @@ def place_bars(length: float, bars: int, contact_s: Sequence[float], breakpoints
         :data:`~guidewire.wire.BREAK_ROUNDING` of a contact are ignored.
     pinned : sequence of bool or None
         Per contact: whether it prescribes a position (default: none does, no bridging).
+    refinement : callable or None
+        Bars per mm relative to the rest at arc lengths ``s`` (vectorised; :meth:`guidewire.Wire.refinement_at`),
+        read at each piece's middle: the bars are shared in proportion to length times refinement. None (default):
+        in proportion to length.
 
     Returns
     -------
@@ -80,7 +86,11 @@ def place_bars(length: float, bars: int, contact_s: Sequence[float], breakpoints
         bridge = np.isin(starts, held) & np.isin(ends, held[1:])
         if bars >= seg.size + int(bridge.sum()):
             minimum = minimum + bridge
-    ideal = bars * seg / length
+    if refinement is None:
+        ideal = bars * seg / length
+    else:
+        weighted = seg * refinement(ends - 0.5 * seg)
+        ideal = bars * weighted / float(np.sum(weighted))
     near = np.round(ideal)
     ideal = np.where(np.abs(ideal - near) < 1e-9 * max(1.0, bars), near, ideal)
     count = np.maximum(np.floor(ideal).astype(int), minimum)
@@ -111,7 +121,8 @@ def _wire_bars(wire: Wire, contact_s: tuple[float, ...], pinned: tuple[bool, ...
     if wire.bar_lengths is not None:
         out = explicit_bars(wire.bar_lengths, contact_s, wire.section_boundaries())
     else:
-        out = place_bars(wire.length, wire.bars, contact_s, wire.section_boundaries(), pinned)
+        out = place_bars(wire.length, wire.bars, contact_s, wire.section_boundaries(), pinned,
+                         wire.refinement_at if wire.refined else None)
     for array in out:
         array.flags.writeable = False
     return out

@@ -255,7 +255,8 @@ def insert(scene: Scene, lengths: Iterable[float], *, predictor: str = "track",
     Parameters
     ----------
     scene : Scene
-        The scene (a vessel, walls, contacts); its ``wire.bars / wire.length`` is kept as the bar density.
+        The scene (a vessel, walls, contacts); its bar density (``wire.bars / wire.length``, per refined mm with
+        refined sections: :attr:`guidewire.Wire.bar_density`) is kept at every length.
     lengths : iterable of float
         Inserted lengths (mm), strictly increasing and positive.
     predictor : {"track", "push"}
@@ -281,13 +282,13 @@ def insert(scene: Scene, lengths: Iterable[float], *, predictor: str = "track",
         For lengths that are not positive and strictly increasing, or options the insertion sets itself.
     """
     values = _check_insertion(lengths, predictor, options)
-    density = scene.wire.bars / scene.wire.length
+    density = scene.wire.bar_density
     options.setdefault("reuse", ModelReuse())
     steps: list[Solution] = []
     started: list[str] = []
     for length in values:
         grown = scene.wire.with_length(length)  # sections stay anchored at the tip: they move with the material
-        bars = max(1 + len(grown.section_boundaries()), int(round(length * density)))
+        bars = max(1 + len(grown.section_boundaries()), scene.wire.bars_at(length, density))
         step_scene = scene.with_wire(length=length, bars=bars)
         try:
             sol, how = _step(step_scene, bars, steps[-1] if steps else None, predictor, options)

@@ -20,6 +20,7 @@ The format::
     diameter = 0.7               # optional, default the wire's
     moment_of_inertia = 0.0118   # optional, default π d⁴/64 (the wire's I when the section sets no diameter)
     rest_curvature = 0.0826      # optional (1/mm), signed like the tangent's turn from base to tip; default 0
+    refinement = 3.0             # optional: bars per mm relative to the wire's own stretch; default 1
 
     [base]                       # s = 0
     point = [0.0, 0.0]
@@ -63,7 +64,7 @@ from .scene import Base, Contact, Scene, Section, Wall, Wire
 _TOP_KEYS = {"name", "notes", "wire", "base", "contact", "wall", "vessel"}
 _WIRE_KEYS = {"length", "bars", "youngs_modulus", "diameter", "moment_of_inertia", "max_relative_angle", "scheme",
               "section", "density", "bar_lengths"}
-_SECTION_KEYS = {"length", "youngs_modulus", "diameter", "moment_of_inertia", "rest_curvature"}
+_SECTION_KEYS = {"length", "youngs_modulus", "diameter", "moment_of_inertia", "rest_curvature", "refinement"}
 _BASE_KEYS = {"point", "angle", "name"}
 _CONTACT_KEYS = {"s", "point", "angle", "name"}
 _WALL_KEYS = {"normal", "offset"}
@@ -284,7 +285,8 @@ def wire_to_dict(w: Wire) -> dict[str, Any]:
     if w.sections:
         wire["section"] = [
             {key: getattr(sec, key) for key in ("length", "youngs_modulus", "diameter", "moment_of_inertia",
-                                                "rest_curvature") if getattr(sec, key) is not None}
+                                                "rest_curvature", "refinement")
+             if getattr(sec, key) is not None and not (key == "refinement" and sec.refinement == 1.0)}
             for sec in w.sections
         ]
     return wire

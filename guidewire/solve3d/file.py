@@ -17,6 +17,7 @@ base point has three coordinates; otherwise it is the planar :class:`guidewire.S
     rest_curvature = 0.0826
     youngs_modulus = 17000.0
     diameter = 0.7
+    refinement = 2.9             # optional: the tip's bars per mm relative to the shaft's (stEVE's 22 + 218 beams)
 
     [base]                       # optional with a vessel (default: its entrance, along its first tangent)
     point = [0.0, 0.0, 0.0]

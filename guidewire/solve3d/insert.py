@@ -8,7 +8,8 @@ turned onto the new tangent by the least rotation; the new material at the entra
 rotation step changes the clamp's frame only: the first joints take the twist and the solve spreads it.
 
 The bar density of the scene (``wire.bars / wire.length``) is kept: a step of length ``L`` has ``round(L · density)``
-bars (at least one per piece).
+bars (at least one per piece); with refined sections (a J tip of finer bars, :attr:`guidewire.Section.refinement`)
+the density is per refined mm (:attr:`guidewire.Wire.bar_density`), so the tip keeps its bars as the shaft grows.
 """
 
 from __future__ import annotations
@@ -59,9 +60,10 @@ class Insertion3D:
 
 
 def scene_at(scene: Scene3D, length: float, rotation: float, density: float) -> Scene3D:
-    """``scene`` inserted to ``length`` (mm) with the clamp turned to ``rotation`` (rad), ``density`` bars per mm."""
+    """``scene`` inserted to ``length`` (mm) with the clamp turned to ``rotation`` (rad), ``density`` bars per mm
+    (per refined mm where sections are refined: :meth:`guidewire.Wire.bars_at`)."""
     wire = scene.wire.with_length(length)
-    bars = max(1, int(round(length * density)))
+    bars = scene.wire.bars_at(length, density)
     try:
         return replace(scene.with_rotation(rotation), wire=replace(wire, bars=bars, bar_lengths=None))
     except ValueError:  # fewer bars than pieces: one per piece
@@ -224,7 +226,8 @@ def insert3d(scene: Scene3D, lengths: Iterable[float], rotations: Iterable[float
     Parameters
     ----------
     scene : Scene3D
-        Its ``wire.bars / wire.length`` is the bar density kept at every length.
+        Its bar density (``wire.bars / wire.length``; per refined mm with refined sections,
+        :attr:`guidewire.Wire.bar_density`) is kept at every length.
     lengths : iterable of float
         Inserted length of every step (mm, positive; any order: a shorter one pulls back).
     rotations : iterable of float, float or None
@@ -244,7 +247,7 @@ def insert3d(scene: Scene3D, lengths: Iterable[float], rotations: Iterable[float
     for key in ("initial_frames", "initial_nodes", "initial_multipliers"):
         if key in options:
             raise ValueError(f"{key} is set by the insertion (each step starts from the last); do not pass it.")
-    density = scene.wire.bars / scene.wire.length
+    density = scene.wire.bar_density
     start = time.perf_counter()
     steps: list[Solution3D] = []
     error = None

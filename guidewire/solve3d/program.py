@@ -66,7 +66,8 @@ def bar_layout(scene: Scene3D) -> tuple[FloatArray, IntArray]:
     if wire.bar_lengths is not None:
         return explicit_bars(wire.bar_lengths, s, wire.section_boundaries())
     pinned = [c.point is not None for c in scene.contacts]
-    return place_bars(wire.length, wire.bars, s, wire.section_boundaries(), pinned)
+    return place_bars(wire.length, wire.bars, s, wire.section_boundaries(), pinned,
+                      wire.refinement_at if wire.refined else None)
 
 
 def length_scale(scene: Scene3D) -> float:

@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -56,8 +57,20 @@ from guidewire.vessel3d.shapes import helix
 
 SCENES = Path(__file__).resolve().parents[1] / "guidewire" / "scenes" / "vessels3d"
 STEVE_J = (Section.arc(12.1, 0.4 * math.pi, youngs_modulus=17000.0, diameter=0.7),)
+STEVE_TIP_BEAMS, STEVE_SHAFT_BEAMS, STEVE_LENGTH = 22, 218, 450.0
+"""stEVE's J wire's beams (BasicWireNav: 22 on the 15.2 mm tip, 218 on the shaft of its 450 mm wire)."""
 GROWTH_BARS = (100, 200, 400, 800, 1600, 3200)
 QUICK_GROWTH = (60, 120)
+
+
+def steve_beams(scene: Scene3D) -> Scene3D:
+    """``scene``'s J wire with stEVE's beam layout: the tip's bars :attr:`~guidewire.Section.refinement` times finer
+    than the shaft's (22 on the tip, 218 on the 434.8 mm shaft: 2.886 times), at the shaft's 0.501 bars per mm."""
+    tip, = scene.wire.sections
+    shaft = STEVE_SHAFT_BEAMS / (STEVE_LENGTH - tip.length)
+    refined = replace(tip, refinement=(STEVE_TIP_BEAMS / tip.length) / shaft)
+    wire = replace(scene.wire, sections=(refined,))
+    return replace(scene, wire=replace(wire, bars=wire.bars_at(wire.length, shaft)))
 
 
 def cases(quick: bool, density: float) -> list[tuple[str, Scene3D, np.ndarray, np.ndarray]]:
@@ -79,6 +92,8 @@ def cases(quick: bool, density: float) -> list[tuple[str, Scene3D, np.ndarray, n
          np.concatenate((push, np.full(turns.size, push[-1]))), np.concatenate((np.zeros(push.size), turns))),
         ("S-bend 3D", Scene3D.in_vessel(s_wire, s_bend.vessel), s_push, np.zeros(s_push.size)),
         ("aortic arch I, stEVE's J wire, push then turn", arch,
+         np.concatenate((a_push, np.full(a_turns.size, a_push[-1]))), np.concatenate((np.zeros(a_push.size), a_turns))),
+        ("aortic arch I, stEVE's J wire and beam layout, push then turn", steve_beams(arch),
          np.concatenate((a_push, np.full(a_turns.size, a_push[-1]))), np.concatenate((np.zeros(a_push.size), a_turns))),
     ]
 
@@ -169,7 +184,7 @@ def ipopt_step(previous: Any, scene: Scene3D, length: float, turn: float, densit
 
 
 def insertion(name: str, scene: Scene3D, lengths: np.ndarray, turns: np.ndarray, ipopt: bool) -> list[dict[str, Any]]:
-    density = scene.wire.bars / scene.wire.length  # (as insert3d keeps it)
+    density = scene.wire.bar_density  # (as insert3d keeps it)
     wall = time.perf_counter()
     out = insert3d(scene, lengths, turns)
     total = time.perf_counter() - wall
@@ -217,21 +232,38 @@ NAVIGATION = ("left_subclavian", "left_common_carotid", "brachiocephalic")
 
 def navigation(quick: bool) -> list[dict[str, Any]]:
     """The committed steering schedules (``examples/steer_<branch>.txt``: stEVE's J wire into each supra-aortic
-    branch of the type I arch by pushing and turning) replayed by :func:`insert3d`: steps, the whole replay's wall
-    time, per-step median and slowest, iterations and bars at the end."""
+    branch of the type I arch by pushing and turning) replayed by :func:`insert3d` with the scene's 2 bars per mm and
+    with stEVE's beam layout (:func:`steve_beams`): steps, the whole replay's wall time, per-step median and slowest,
+    iterations (every solve of a step), bars at the end, the tube the tip ends in and how far along it, and the
+    distance between the two layouts' tips after each step."""
     scene = load_scene(SCENES / "aortic_arch_I.toml")
+    vessel = scene.vessel
+    vessel.creases  # noqa: B018  (found once, before the clock)
+    lines = vessel.centrelines(0.5)
     out = []
     for name in NAVIGATION[:1] if quick else NAVIGATION:
         table = np.loadtxt(EXAMPLES / f"steer_{name}.txt", ndmin=2)
         if quick:
             table = table[:20]
-        result = insert3d(scene, table[:, 0], np.radians(table[:, 1]))
-        times = np.array([s.solve_time_s for s in result.steps])
-        out.append({"branch": name, "steps": len(result.steps), "solved": sum(s.success for s in result.steps),
-                    "total_s": result.seconds, "median_ms": 1e3 * float(np.median(times)),
-                    "max_ms": 1e3 * float(times.max()), "iterations": sum(s.iterations for s in result.steps),
-                    "bars": result.steps[-1].n_bars})
-        print(f"  navigation {name}: {out[-1]['total_s']:.2f} s, {out[-1]['steps']} steps")
+        tips = {}
+        for layout, chosen in (("2 bars per mm", scene), ("stEVE's beams", steve_beams(scene))):
+            result = insert3d(chosen, table[:, 0], np.radians(table[:, 1]))
+            times = np.array([s.solve_time_s for s in result.steps])
+            tip = result.steps[-1].nodes[-1]
+            tube = int(vessel.tube_of(tip[None])[0])
+            line = lines[tube]
+            k = int(np.argmin(np.linalg.norm(line - tip, axis=1)))
+            tips[layout] = np.array([s.nodes[-1] for s in result.steps])
+            gap = (np.linalg.norm(tips[layout] - tips["2 bars per mm"], axis=1)
+                   if len(tips[layout]) == len(tips["2 bars per mm"]) else np.full(1, math.nan))
+            out.append({"branch": name, "layout": layout, "steps": len(result.steps),
+                        "solved": sum(s.success for s in result.steps), "total_s": result.seconds,
+                        "median_ms": 1e3 * float(np.median(times)), "max_ms": 1e3 * float(times.max()),
+                        "iterations": sum(s.extras.get("step_iterations", s.iterations) for s in result.steps),
+                        "bars": result.steps[-1].n_bars, "tip_in": vessel.tube_names[tube],
+                        "tip_along_mm": float(np.sum(np.linalg.norm(np.diff(line[:k + 1], axis=0), axis=1))),
+                        "tip_gap_median_mm": float(np.median(gap)), "tip_gap_max_mm": float(np.max(gap))})
+            print(f"  navigation {name}, {layout}: {out[-1]['total_s']:.2f} s, {out[-1]['steps']} steps")
     return out
 
 
@@ -255,7 +287,7 @@ def bifurcation(quick: bool) -> list[dict[str, Any]]:
         k = int(np.argmin(np.linalg.norm(main - trunk[0], axis=1)))
         to_kid = float(np.sum(np.linalg.norm(np.diff(np.vstack((main[:k], trunk)), axis=0), axis=1)))
         for depth in depths:
-            target = scene_at(scene, to_kid + depth, 0.0, scene.wire.bars / scene.wire.length)
+            target = scene_at(scene, to_kid + depth, 0.0, scene.wire.bar_density)
             lengths, _ = bar_layout(target)
             sol = solve3d(target, initial_nodes=vessel.route(np.concatenate(([0.0], np.cumsum(lengths))), child))
             total = sum(f.magnitude for f in sol.forces)
@@ -304,12 +336,17 @@ def main() -> None:
                              "median iterations", "IPOPT median ms", "IPOPT/ours (median of ratios)",
                              "IPOPT solved", "max energy gap (rel.)", "whole insertion s"], table)
     lines += ["", "## Navigation (the committed steering schedules replayed: `examples/steer_<branch>.txt`)", "",
-              "stEVE's J wire in the type I arch at 2 bars per mm, pushed and turned into each supra-aortic branch "
-              "(the schedules `examples/steer_arch.py` found); the whole replay's wall time.", ""]
-    lines += markdown_table(["branch", "steps solved", "bars (last)", "whole replay s", "median ms per step",
-                             "slowest step ms", "iterations"],
-                            [[r["branch"], f"{r['solved']}/{r['steps']}", r["bars"], r["total_s"], r["median_ms"],
-                              r["max_ms"], r["iterations"]] for r in navigate])
+              "stEVE's J wire in the type I arch pushed and turned into each supra-aortic branch (the schedules "
+              "`examples/steer_arch.py` found at 2 bars per mm), at the scene's 2 bars per mm and with stEVE's beam "
+              "layout (22 bars on the 15.2 mm tip, 2 mm bars on the shaft: `Section.refinement` 2.886 at 0.501 bars "
+              "per refined mm); the whole replay's wall time, where the tip ends (the tube, and how far along its "
+              "centreline), and the distance between the two layouts' tips after each step.", ""]
+    lines += markdown_table(["branch", "layout", "steps solved", "bars (last)", "whole replay s",
+                             "median ms per step", "slowest step ms", "iterations", "tip ends in",
+                             "tip along mm", "tip gap median mm", "tip gap max mm"],
+                            [[r["branch"], r["layout"], f"{r['solved']}/{r['steps']}", r["bars"], r["total_s"],
+                              r["median_ms"], r["max_ms"], r["iterations"], r["tip_in"], r["tip_along_mm"],
+                              r["tip_gap_median_mm"], r["tip_gap_max_mm"]] for r in navigate])
     lines += ["", "## Through the trunk's bifurcation (cold solves)", "",
               "stEVE's J wire solved cold from a start along the centrelines through the brachiocephalic trunk into "
               "each branch at its end (2 bars per mm): the creases there meet three walls at their corners "

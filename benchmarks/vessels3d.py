@@ -15,7 +15,10 @@ each step from the same start point (our predictor's frames and nodes); its time
 answers compared by energy. IPOPT gets no multiplier warm start (its warm-start options need tuned bound pushes).
 
 Navigation: the committed steering schedules (``examples/steer_<branch>.txt``, stEVE's J wire pushed and turned into
-each supra-aortic branch of the type I arch, 104-149 steps, up to 536 bars) replayed; the whole replay's wall time.
+each supra-aortic branch of the type I arch, 104-149 steps, up to 536 bars) replayed at the scene's 2 bars per mm and
+in stEVE's own beam layout (``aortic_arch_I_steve_beams.toml``: 22 bars on the tip, ~2 mm bars on the shaft, by
+``Section.refinement``); the whole replay's wall time, where the tip ends, and the two layouts' tip gap. The arch's
+push-and-turn case is run in both layouts too.
 
 Bifurcation: stEVE's J wire solved cold from a start along the centrelines through the brachiocephalic trunk into
 the right common carotid and subclavian arteries (tip 10 / 20 / 30 mm in): iterations, time, energy and the contacts'
@@ -56,21 +59,11 @@ from guidewire.solve3d.solve import solve3d
 from guidewire.vessel3d.shapes import helix
 
 SCENES = Path(__file__).resolve().parents[1] / "guidewire" / "scenes" / "vessels3d"
+STEVE_BEAMS = SCENES / "aortic_arch_I_steve_beams.toml"
+"""The type I arch with stEVE's J wire in its own beam layout (22 tip bars, ~2 mm shaft bars)."""
 STEVE_J = (Section.arc(12.1, 0.4 * math.pi, youngs_modulus=17000.0, diameter=0.7),)
-STEVE_TIP_BEAMS, STEVE_SHAFT_BEAMS, STEVE_LENGTH = 22, 218, 450.0
-"""stEVE's J wire's beams (BasicWireNav: 22 on the 15.2 mm tip, 218 on the shaft of its 450 mm wire)."""
 GROWTH_BARS = (100, 200, 400, 800, 1600, 3200)
 QUICK_GROWTH = (60, 120)
-
-
-def steve_beams(scene: Scene3D) -> Scene3D:
-    """``scene``'s J wire with stEVE's beam layout: the tip's bars :attr:`~guidewire.Section.refinement` times finer
-    than the shaft's (22 on the tip, 218 on the 434.8 mm shaft: 2.886 times), at the shaft's 0.501 bars per mm."""
-    tip, = scene.wire.sections
-    shaft = STEVE_SHAFT_BEAMS / (STEVE_LENGTH - tip.length)
-    refined = replace(tip, refinement=(STEVE_TIP_BEAMS / tip.length) / shaft)
-    wire = replace(scene.wire, sections=(refined,))
-    return replace(scene, wire=replace(wire, bars=wire.bars_at(wire.length, shaft)))
 
 
 def cases(quick: bool, density: float) -> list[tuple[str, Scene3D, np.ndarray, np.ndarray]]:
@@ -93,7 +86,7 @@ def cases(quick: bool, density: float) -> list[tuple[str, Scene3D, np.ndarray, n
         ("S-bend 3D", Scene3D.in_vessel(s_wire, s_bend.vessel), s_push, np.zeros(s_push.size)),
         ("aortic arch I, stEVE's J wire, push then turn", arch,
          np.concatenate((a_push, np.full(a_turns.size, a_push[-1]))), np.concatenate((np.zeros(a_push.size), a_turns))),
-        ("aortic arch I, stEVE's J wire and beam layout, push then turn", steve_beams(arch),
+        ("aortic arch I, stEVE's J wire and beam layout, push then turn", load_scene(STEVE_BEAMS),
          np.concatenate((a_push, np.full(a_turns.size, a_push[-1]))), np.concatenate((np.zeros(a_push.size), a_turns))),
     ]
 
@@ -233,7 +226,7 @@ NAVIGATION = ("left_subclavian", "left_common_carotid", "brachiocephalic")
 def navigation(quick: bool) -> list[dict[str, Any]]:
     """The committed steering schedules (``examples/steer_<branch>.txt``: stEVE's J wire into each supra-aortic
     branch of the type I arch by pushing and turning) replayed by :func:`insert3d` with the scene's 2 bars per mm and
-    with stEVE's beam layout (:func:`steve_beams`): steps, the whole replay's wall time, per-step median and slowest,
+    with stEVE's beam layout (:data:`STEVE_BEAMS`): steps, the whole replay's wall time, per-step median and slowest,
     iterations (every solve of a step), bars at the end, the tube the tip ends in and how far along it, and the
     distance between the two layouts' tips after each step."""
     scene = load_scene(SCENES / "aortic_arch_I.toml")
@@ -246,7 +239,8 @@ def navigation(quick: bool) -> list[dict[str, Any]]:
         if quick:
             table = table[:20]
         tips = {}
-        for layout, chosen in (("2 bars per mm", scene), ("stEVE's beams", steve_beams(scene))):
+        for layout, chosen in (("2 bars per mm", scene), ("stEVE's beams", replace(load_scene(STEVE_BEAMS),
+                                                                                   vessel=vessel))):
             result = insert3d(chosen, table[:, 0], np.radians(table[:, 1]))
             times = np.array([s.solve_time_s for s in result.steps])
             tip = result.steps[-1].nodes[-1]
@@ -338,9 +332,9 @@ def main() -> None:
     lines += ["", "## Navigation (the committed steering schedules replayed: `examples/steer_<branch>.txt`)", "",
               "stEVE's J wire in the type I arch pushed and turned into each supra-aortic branch (the schedules "
               "`examples/steer_arch.py` found at 2 bars per mm), at the scene's 2 bars per mm and with stEVE's beam "
-              "layout (22 bars on the 15.2 mm tip, 2 mm bars on the shaft: `Section.refinement` 2.886 at 0.501 bars "
-              "per refined mm); the whole replay's wall time, where the tip ends (the tube, and how far along its "
-              "centreline), and the distance between the two layouts' tips after each step.", ""]
+              "layout (`aortic_arch_I_steve_beams.toml`: 22 bars on the 15.2 mm tip, 2.03 mm bars on the shaft, "
+              "`Section.refinement` 2.886); the whole replay's wall time, where the tip ends (the tube, and how far "
+              "along its centreline), and the distance between the two layouts' tips after each step.", ""]
     lines += markdown_table(["branch", "layout", "steps solved", "bars (last)", "whole replay s",
                              "median ms per step", "slowest step ms", "iterations", "tip ends in",
                              "tip along mm", "tip gap median mm", "tip gap max mm"],

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import qpsolvers
 import scipy.sparse as sp
-from quartic_chain import quartic_chain
+from quartic_chain import chain_in_a_box
 
 import sqp
 from sqp.active_set import banded_kkt, guessed_qp, interleaved_order
@@ -99,25 +99,11 @@ def test_interleaved_order_keeps_a_local_kkt_matrix_banded():
     np.testing.assert_allclose(C @ d, np.concatenate((e, h[:40:7])), atol=1e-12)
 
 
-def _chain_in_a_box(target: np.ndarray) -> tuple:
-    """``(fun, jac, hess, rows)``: the quartic chain pulled towards ``target`` with every component kept in
-    ``x_i² ≤ 0.5`` (one sparse row each), exact sparse Hessians."""
-    fun, jac, tridiagonal = quartic_chain(target)
-
-    def hess(x):
-        main, off = tridiagonal(x)
-        return sp.diags([main, off, off], [0, 1, -1], format="csc")
-
-    rows = {"type": "ineq", "fun": lambda x: 0.5 - x ** 2, "jac": lambda x: sp.diags(-2.0 * x, format="csr"),
-            "hess": lambda x, v: sp.diags(-2.0 * v, format="csc")}
-    return fun, jac, hess, rows
-
-
 def test_minimize_with_the_guess_matches_without_on_a_sparse_problem():
     """A sparse nonlinear program above the dense limit solved with ``active_set_guess`` reaches the same point as
     the backends alone, with some subproblem solved on the guess."""
     n = 400
-    fun, jac, hess, lumen = _chain_in_a_box(np.random.default_rng(4).normal(size=n))
+    fun, jac, hess, lumen = chain_in_a_box(np.random.default_rng(4).normal(size=n))
     plain = sqp.minimize(fun, np.zeros(n), jac=jac, hess=hess, constraints=[lumen])
     guessed = sqp.minimize(fun, np.zeros(n), jac=jac, hess=hess, constraints=[lumen], active_set_guess=True)
     assert plain.success and guessed.success
@@ -140,7 +126,7 @@ def test_a_start_without_multipliers_guesses_its_own_working_set(seed, shift):
     # active or strictly slack at the solution, so the QP's active set is the solution's at any nearby start
     outside = np.repeat(rng.uniform(size=n // 20) < 0.5, 20)
     target = np.where(outside, 2.0, 0.2) * rng.choice([-1.0, 1.0])  # (one side: no run pulled across the middle)
-    fun, jac, hess, lumen = _chain_in_a_box(target)
+    fun, jac, hess, lumen = chain_in_a_box(target)
     plain = sqp.minimize(fun, np.zeros(n), jac=jac, hess=hess, constraints=[lumen])
     assert plain.success
     held = np.abs(plain.constraint_multipliers[0]) > 1e-8

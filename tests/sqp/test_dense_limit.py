@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.sparse as sp
-from quartic_chain import quartic_chain
+from quartic_chain import chain_in_a_box
 from scipy.optimize import LinearConstraint
 
 import sqp
@@ -17,19 +17,10 @@ ALL = ["daqp", "piqp", "clarabel"]
 
 
 def _chain_in_a_box(target: np.ndarray) -> tuple:
-    """The quartic chain pulled towards ``target`` with every ``x_i² ≤ 0.5`` (one sparse row each) and
-    ``x_0 − x_1 = 0.1`` (a sparse linear equality): exact sparse Hessians and rows local in the variables, as a
-    discretised rod's."""
-    fun, jac, tridiagonal = quartic_chain(target)
-
-    def hess(x):
-        main, off = tridiagonal(x)
-        return sp.diags([main, off, off], [0, 1, -1], format="csc")
-
-    rows = {"type": "ineq", "fun": lambda x: 0.5 - x ** 2, "jac": lambda x: sp.diags(-2.0 * x, format="csr"),
-            "hess": lambda x, v: sp.diags(-2.0 * v, format="csc")}
-    n = target.size
-    step = LinearConstraint(sp.csr_matrix(([1.0, -1.0], ([0, 0], [0, 1])), shape=(1, n)), 0.1, 0.1)
+    """:func:`quartic_chain.chain_in_a_box` with ``x_0 − x_1 = 0.1`` too (a sparse linear equality): exact sparse
+    Hessians and rows local in the variables, as a discretised rod's."""
+    fun, jac, hess, rows = chain_in_a_box(target)
+    step = LinearConstraint(sp.csr_matrix(([1.0, -1.0], ([0, 0], [0, 1])), shape=(1, target.size)), 0.1, 0.1)
     return fun, jac, hess, [rows, step]
 
 

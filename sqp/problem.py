@@ -246,7 +246,7 @@ class Problem:
     @property
     def dense(self) -> bool:
         """Whether the engine works with dense matrices here (``n <= dense_limit``): the Lagrangian Hessian, the
-        linear rows, the QP backend ``"auto"`` picks (DAQP) and its elastic form."""
+        linear rows and the QP backend ``"auto"`` picks (DAQP)."""
         return self.x0.size <= self.dense_limit
 
     @cached_property

@@ -43,11 +43,10 @@ def place_bars(length: float, bars: int, contact_s: Sequence[float], breakpoints
 
     The contacts and breakpoints cut the wire into pieces; the ``n`` bars are shared out in proportion to the
     pieces' lengths (times their ``refinement``; largest-remainder rounding, at least one bar each), equal within a
-    piece. A piece running from
-    one prescribed position to the next (the base, or a contact with ``pinned`` True) gets at least two bars when
-    ``n`` allows, so that two positions closer than a bar are bridged by short bars that can bend, not by one rigid
-    bar that must span their distance exactly. Without breakpoints and without such a one-bar piece this is exactly
-    the uniform chain of the paper when every contact sits at a multiple of ``L/n``.
+    piece. A piece running from one prescribed position to the next (the base, or a contact with ``pinned`` True)
+    gets at least two bars when ``n`` allows, so that two positions closer than a bar are bridged by short bars that
+    can bend, not by one rigid bar that must span their distance exactly. Without breakpoints and without such a
+    one-bar piece this is exactly the uniform chain of the paper when every contact sits at a multiple of ``L/n``.
 
     Parameters
     ----------

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -131,6 +132,27 @@ def test_j_wire_with_twist_and_bending_converges_at_order_two():
     assert 1.9 < math.log2(d1 / d2) < 2.1
     r1, r2 = abs(rolls[0] - rolls[1]), abs(rolls[1] - rolls[2])
     assert 1.8 < math.log2(r1 / r2) < 2.2
+
+
+@pytest.mark.parametrize(("refinement", "bars"), [(2.0, (30, 60, 120)), (3.0, (20, 40, 80))])
+def test_a_refined_j_tip_still_converges_at_order_two(refinement, bars):
+    """The twisted, loaded J wire of the test above with its tip's bars ``refinement`` times finer than the shaft's
+    (:attr:`guidewire.Section.refinement`): the graded chains, each halving the last one's bars in both pieces (the
+    bar counts split exactly, 1 : refinement), still move the tip by ``~C h²``, and the layout is the one asked."""
+    tangent, normal = np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0])
+    arc = 12.1 * 0.4 * math.pi
+    tips = []
+    for n in bars:
+        wire = _j_wire(n, 2 * arc)
+        wire = replace(wire, sections=(replace(wire.sections[0], refinement=refinement),))
+        base = Base3D((0, 0, 0), tuple(tangent), tuple(normal), rotation=1.0)
+        sol = solve3d(Scene3D(wire=wire, base=base, tip_force=(0.0, 0.05, -0.02)), tol=1e-12)
+        assert sol.success, sol.message
+        shaft, tip = n // (1 + int(refinement)), n - n // (1 + int(refinement))
+        np.testing.assert_allclose(sol.lengths, np.repeat([arc / shaft, arc / tip], [shaft, tip]), rtol=1e-12)
+        tips.append(sol.nodes[-1])
+    d1, d2 = np.linalg.norm(tips[0] - tips[1]), np.linalg.norm(tips[1] - tips[2])
+    assert 1.9 < math.log2(d1 / d2) < 2.1
 
 
 def test_forces_and_moments_balance_in_3d():

@@ -88,9 +88,8 @@ def fresh_insertion(start: guidewire.Scene, lengths: Any) -> list[Any]:
 def planar(quick: bool) -> tuple[Callable[[], list[Any]], list[Phase]]:
     """The planar insertion (a callable returning its steps) and its phases."""
     scene = guidewire.load_scene(VESSELS / "aortic_arch.toml")
-    density = scene.wire.bars / scene.wire.length
     lengths = np.arange(5.0, (60.0 if quick else 250.0) + 0.5, 1.0)
-    start = scene.with_wire(length=5.0, bars=max(1, round(5.0 * density)))
+    start = scene.with_wire(length=5.0, bars=scene.wire.bars_at(5.0))
     return (lambda: fresh_insertion(start, lengths)), PLANAR_PHASES
 
 

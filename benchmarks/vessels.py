@@ -51,9 +51,8 @@ FINE = {"bend": (80.0, 12.5, 8), "tortuous": (40.0, 25.0, 8), "aortic_arch": (24
 
 def insertion(name: str, span: float, step: float, ipopt: bool) -> tuple[list[dict[str, Any]], dict[str, Any]]:
     scene = guidewire.load_scene(VESSELS / f"{name}.toml")
-    density = scene.wire.bars / scene.wire.length
     lengths = np.arange(FIRST, span + 0.5 * step, step)
-    start = scene.with_wire(length=FIRST, bars=max(1, round(FIRST * density)))
+    start = scene.with_wire(length=FIRST, bars=scene.wire.bars_at(FIRST))
     rows, total, last = steps(name, start, lengths, ipopt)
     cold = guidewire.solve(last, branches="first")
     summary: dict[str, Any] = {"vessel": name, "steps": len(rows), "total_s": total,

@@ -89,7 +89,7 @@ def child(case: str, repeats: int, cache: Path, tag: str, sizes: tuple[int, ...]
 
     if case == "arch":
         scene, start = _arch_start(cache, tag)
-        density = scene.wire.bars / scene.wire.length
+        density = scene.wire.bar_density
         steps = [(122.0, 0.0), (124.0, 0.0), (126.0, 0.0), (126.0, 15.0), (126.0, 30.0)]
     else:
         n = int(case.split("_")[1])

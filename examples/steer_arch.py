@@ -145,7 +145,7 @@ def search(scene: guidewire.Scene3D, target: str) -> tuple[list[Step], guidewire
     inside ``target``, heading in."""
     vessel = scene.vessel
     index = vessel.tube_names.index(target)
-    density = scene.wire.bars / scene.wire.length
+    density = scene.wire.bar_density
     ostia = {name: ostium_arc_length(vessel, vessel.tube_names.index(name)) for name in TARGETS}
     to = PUSH_STEP * np.floor((min(ostia.values()) - APPROACH_SHORT) / PUSH_STEP)
     approach = push(scene.wire.length, to - scene.wire.length, 0.0)
